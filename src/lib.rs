@@ -1,0 +1,3 @@
+//! facade
+pub use algesurf_bb as bb;
+pub use algesurf_polar as polar;
