@@ -1,1 +1,121 @@
-fn main() {}
+//! Project automation for algesurf: `cargo xtask <task>`.
+//!
+//! * `ci`: what `.ci/run` runs: rustfmt check, clippy with `-D warnings`, the README's test
+//!   command (`cargo test --workspace`), then the interoperability checks (our .glb passes the
+//!   Khronos glTF validator; our OBJ/PLY/STL/OFF load in trimesh with the right counts).
+//! * `dist`: release build of the `algesurf` binary into `dist/` with a SHA-256 file.
+//! * `bench [NAME]`: the divan benchmarks (`cargo bench -p algesurf-benches`).
+
+mod interop;
+
+use sha2::{Digest, Sha256};
+use std::path::{Path, PathBuf};
+use std::process::{Command, ExitCode};
+
+type Result<T> = std::result::Result<T, String>;
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("xtask lives in the workspace root")
+        .to_path_buf()
+}
+
+fn cargo() -> Command {
+    let mut c = Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()));
+    c.current_dir(root());
+    c
+}
+
+fn run(mut cmd: Command) -> Result<()> {
+    eprintln!("xtask: running {cmd:?}");
+    let status = cmd
+        .status()
+        .map_err(|e| format!("cannot start {cmd:?}: {e}"))?;
+    if status.success() {
+        Ok(())
+    } else {
+        Err(format!("{cmd:?} failed with {status}"))
+    }
+}
+
+fn ci() -> Result<()> {
+    let mut fmt = cargo();
+    fmt.args(["fmt", "--all", "--check"]);
+    run(fmt)?;
+    let mut clippy = cargo();
+    clippy.args(["clippy", "--workspace", "--all-targets", "--", "-D", "warnings"]);
+    run(clippy)?;
+    let mut test = cargo();
+    test.args(["test", "--workspace"]);
+    if std::env::var_os("ALGESURF_CORPUS").is_none() {
+        let corpus = root().join("../shared/data");
+        if corpus.is_dir() {
+            test.env("ALGESURF_CORPUS", corpus);
+        }
+    }
+    run(test)?;
+    interop::run_all()
+}
+
+fn hex(bytes: &[u8]) -> String {
+    bytes.iter().map(|b| format!("{b:02x}")).collect()
+}
+
+fn dist() -> Result<()> {
+    let mut build = cargo();
+    build.args(["build", "--release", "--locked", "-p", "algesurf-cli"]);
+    run(build)?;
+    let exe = format!("algesurf{}", std::env::consts::EXE_SUFFIX);
+    let src = root().join("target/release").join(&exe);
+    let dir = root().join("dist");
+    std::fs::create_dir_all(&dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    let dst = dir.join(&exe);
+    let bytes = std::fs::read(&src).map_err(|e| format!("cannot read {}: {e}", src.display()))?;
+    // Write to a temporary name, then rename: an interrupted dist never leaves a torn binary.
+    let tmp = dir.join(format!(".{exe}.tmp"));
+    std::fs::write(&tmp, &bytes).map_err(|e| format!("cannot write {}: {e}", tmp.display()))?;
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        std::fs::set_permissions(&tmp, std::fs::Permissions::from_mode(0o755))
+            .map_err(|e| format!("cannot chmod {}: {e}", tmp.display()))?;
+    }
+    std::fs::rename(&tmp, &dst).map_err(|e| format!("cannot rename to {}: {e}", dst.display()))?;
+    let sum = format!("{}  {exe}\n", hex(&Sha256::digest(&bytes)));
+    let sum_path = dir.join(format!("{exe}.sha256"));
+    std::fs::write(&sum_path, &sum)
+        .map_err(|e| format!("cannot write {}: {e}", sum_path.display()))?;
+    print!("{sum}");
+    println!("wrote {} and {}", dst.display(), sum_path.display());
+    Ok(())
+}
+
+fn bench(args: &[String]) -> Result<()> {
+    let mut b = cargo();
+    b.args(["bench", "-p", "algesurf-benches"]);
+    if let Some(name) = args.first() {
+        b.args(["--bench", name]);
+    }
+    run(b)
+}
+
+fn main() -> ExitCode {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let result = match args.first().map(String::as_str) {
+        Some("ci") => ci(),
+        Some("dist") => dist(),
+        Some("bench") => bench(&args[1..]),
+        _ => {
+            eprintln!("usage: cargo xtask <ci | dist | bench [bb|roots]>");
+            return ExitCode::from(2);
+        }
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("xtask: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}

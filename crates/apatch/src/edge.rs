@@ -1,0 +1,176 @@
+//! The rational cubic (4.3)/(4.4) on the edge tetrahedron `[u_l, p_i, p_j, u_k]` between the
+//! face tetrahedra of the faces `[p_i p_j p_k]` (apex `u_k`) and `[p_i p_j p_l]` (apex `u_l`):
+//! Steps 7 and 9 of §4.2 of Xu–Huang–Bajaj 2001.
+//!
+//! Every coefficient with `λ_0 ≤ 1` is fixed by C1 with the `k` side, every one with
+//! `λ_3 ≤ 1` by C1 with the `l` side: each is the blossom of that side's polynomial at the
+//! edge tetrahedron's vertices (Lemma 2.2 for the C1 layer, C0 for the shared face). Both sides
+//! determine the coefficients with `λ_0 ≤ 1` and `λ_3 ≤ 1`; they agree when the two face cubics
+//! share vertex gradients and the mid-edge gradient of the edge, and [`EdgeCubic::overlap_mismatch`]
+//! measures that. The two exceptions, `λ = 1101` and `1011`, are where the rational blend
+//! `(a τ0 + b τ3)/(τ0 + τ3)` takes `b` from the `k` side and `a` from the `l` side; their
+//! polynomial part is zero (Step 7's "number 5" coefficients).
+
+use crate::rational::edge_term;
+use crate::{ApatchError, FaceCubic};
+use algesurf_bb::{BbPoly, Tetrahedron, multi_index};
+use glam::DVec3;
+
+/// The rational cubic on an edge tetrahedron.
+#[derive(Clone, Debug)]
+pub struct EdgeCubic {
+    tet: Tetrahedron,
+    poly: BbPoly<f64, 4>,
+    /// `[[a_1101, b_1101], [a_1011, b_1011]]`.
+    rational: [[f64; 2]; 2],
+    overlap_mismatch: f64,
+}
+
+/// Where the edge `(p_i, p_j)` sits in a face tetrahedron: the local indices of `p_i`, `p_j`
+/// and of the third face vertex.
+fn locate(face: &FaceCubic, pi: DVec3, pj: DVec3) -> Result<(usize, usize, usize), ApatchError> {
+    let v = face.tetrahedron().vertices();
+    let find = |p: DVec3| (0..3).find(|&a| v[a] == p);
+    match (find(pi), find(pj)) {
+        (Some(a), Some(b)) if a != b => Ok((a, b, 3 - a - b)),
+        _ => Err(ApatchError::Inconsistent(
+            "the face tetrahedron does not contain the edge".into(),
+        )),
+    }
+}
+
+/// The coefficient at `lambda` (indices on `verts`, given in the side's barycentric
+/// coordinates) of the side's polynomial re-expressed on the edge tetrahedron.
+fn blossom_at(poly: &BbPoly<f64, 4>, verts: &[[f64; 4]; 4], lambda: [usize; 4]) -> f64 {
+    let mut args = Vec::with_capacity(3);
+    for (s, &l) in lambda.iter().enumerate() {
+        args.extend(std::iter::repeat_n(verts[s], l));
+    }
+    poly.blossom(&args).expect("three arguments for a cubic")
+}
+
+impl EdgeCubic {
+    /// Builds the edge cubic for the mesh edge `(p_i, p_j)` from the face cubics on its two
+    /// sides: `face_k` (apex `u_k`) and `face_l` (apex `u_l`). The free parameters of both
+    /// faces must already be set (the edge cubic depends on them linearly).
+    pub fn new(
+        pi: DVec3,
+        pj: DVec3,
+        face_k: &FaceCubic,
+        face_l: &FaceCubic,
+    ) -> Result<Self, ApatchError> {
+        let uk = face_k.tetrahedron().vertex(3);
+        let ul = face_l.tetrahedron().vertex(3);
+        let tet = Tetrahedron::new([ul, pi, pj, uk])?;
+        let side = |face: &FaceCubic| -> Result<(BbPoly<f64, 4>, [[f64; 4]; 4]), ApatchError> {
+            let (a, b, c) = locate(face, pi, pj)?;
+            let t = face.tetrahedron();
+            let unit = |i: usize| {
+                let mut e = [0.0; 4];
+                e[i] = 1.0;
+                e
+            };
+            let verts = [t.barycentric(ul), unit(a), unit(b), t.barycentric(uk)];
+            // Exact unit vectors where the vertex is the side's own (barycentric() would
+            // round): u_k on the k side, u_l on the l side.
+            let mut verts = verts;
+            if t.vertex(3) == uk {
+                verts[3] = unit(3);
+            }
+            if t.vertex(3) == ul {
+                verts[0] = unit(3);
+            }
+            Ok((face.effective_polynomial(c), verts))
+        };
+        let (pk, vk) = side(face_k)?;
+        let (pl, vl) = side(face_l)?;
+        let mut poly = BbPoly::<f64, 4>::zero(3);
+        let mut mismatch: f64 = 0.0;
+        let scale = pk
+            .max_coeff_norm()
+            .max(pl.max_coeff_norm())
+            .max(f64::MIN_POSITIVE);
+        let mut rational = [[0.0; 2]; 2];
+        for lambda in multi_index::iter::<4>(3) {
+            let from_k = (lambda[0] <= 1).then(|| blossom_at(&pk, &vk, lambda));
+            let from_l = (lambda[3] <= 1).then(|| blossom_at(&pl, &vl, lambda));
+            match lambda {
+                [1, 1, 0, 1] | [1, 0, 1, 1] => {
+                    let m = if lambda[1] == 1 { 0 } else { 1 };
+                    rational[m] = [from_l.expect("λ3 = 1"), from_k.expect("λ0 = 1")];
+                }
+                _ => match (from_k, from_l) {
+                    (Some(k), Some(l)) => {
+                        mismatch = mismatch.max((k - l).abs() / scale);
+                        poly.set(lambda, k);
+                    }
+                    (Some(k), None) => poly.set(lambda, k),
+                    (None, Some(l)) => poly.set(lambda, l),
+                    (None, None) => unreachable!("λ0 + λ3 ≤ 3 means one of them is ≤ 1"),
+                },
+            }
+        }
+        Ok(EdgeCubic {
+            tet,
+            poly,
+            rational,
+            overlap_mismatch: mismatch,
+        })
+    }
+
+    /// Largest disagreement, relative to the coefficient size, between the coefficients both
+    /// neighbours determine: ~1e-16 when the face cubics are consistent along the edge.
+    pub fn overlap_mismatch(&self) -> f64 {
+        self.overlap_mismatch
+    }
+
+    /// The edge tetrahedron `[u_l, p_i, p_j, u_k]`.
+    pub fn tetrahedron(&self) -> &Tetrahedron {
+        &self.tet
+    }
+
+    /// The polynomial part.
+    pub fn polynomial(&self) -> &BbPoly<f64, 4> {
+        &self.poly
+    }
+
+    /// `[[a_1101, b_1101], [a_1011, b_1011]]` of (4.3).
+    pub fn rational(&self) -> [[f64; 2]; 2] {
+        self.rational
+    }
+
+    /// F at barycentric coordinates `tau`.
+    pub fn value(&self, tau: [f64; 4]) -> f64 {
+        self.poly.eval(tau) + edge_term(tau, self.rational).0
+    }
+
+    /// F and its Cartesian gradient at `x`.
+    pub fn value_gradient(&self, x: DVec3) -> (f64, DVec3) {
+        let tau = self.tet.barycentric(x);
+        let (r, dr) = edge_term(tau, self.rational);
+        let g = self.tet.barycentric_gradients();
+        let mut grad = self.poly.gradient_at(&self.tet, x);
+        for i in 0..4 {
+            grad += g[i] * dr[i];
+        }
+        (self.poly.eval(tau) + r, grad)
+    }
+
+    /// Coefficients of the shooting polynomial (4.9) from `q = x p_i + (1 − x) p_j` to
+    /// `u = y u_k + (1 − y) u_l`.
+    pub fn shooting_polynomial(&self, x: f64, y: f64) -> [f64; 4] {
+        let a = [0.0, x, 1.0 - x, 0.0];
+        let b = [1.0 - y, 0.0, 0.0, y];
+        let s = self.poly.restrict_to_segment(a, b);
+        let mut c = [s.coeffs()[0], s.coeffs()[1], s.coeffs()[2], s.coeffs()[3]];
+        // The rational part only touches B_2 (4.9): along the segment τ = (1−t)a + t b the
+        // term is 6 t²(1−t) (x or 1−x) y(1−y) · blend, with blend = (1−y)·a_m + y·b_m because
+        // τ0 : τ3 = (1 − y) : y is constant along the segment.
+        let [[a1, b1], [a2, b2]] = self.rational;
+        let blend1 = (1.0 - y) * a1 + y * b1;
+        let blend2 = (1.0 - y) * a2 + y * b2;
+        // 6 t²(1−t) = 2 B_2^3(t).
+        c[2] += 2.0 * y * (1.0 - y) * (x * blend1 + (1.0 - x) * blend2);
+        c
+    }
+}

@@ -1,0 +1,18 @@
+//! The error type of algesurf-apatch.
+
+use thiserror::Error;
+
+/// Everything that can go wrong while building or evaluating A-patches.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum ApatchError {
+    /// An error of the BB algebra (degenerate tetrahedron, ...).
+    #[error(transparent)]
+    Bb(#[from] algesurf_bb::BbError),
+    /// A coefficient equation had (numerically) no solution: the geometry it depends on is
+    /// degenerate (e.g. a direction along an edge that should cross it).
+    #[error("degenerate configuration: {0}")]
+    Degenerate(String),
+    /// Two tetrahedra that must share a face do not.
+    #[error("inconsistent hull: {0}")]
+    Inconsistent(String),
+}

@@ -1,0 +1,18 @@
+//! Implicit A-patch surfaces (Xu–Huang–Bajaj 2001): a C1 piecewise rational cubic F over a
+//! simplicial hull whose zero set interpolates a triangle mesh and its normals.
+#![forbid(unsafe_code)]
+#![warn(missing_docs)]
+// Index loops over barycentric components (τ_k, ∇τ_k, λ_k with one k) read like the
+// formulas they implement; iterator chains over zipped arrays would hide that.
+#![allow(clippy::needless_range_loop)]
+
+pub mod edge;
+pub mod error;
+pub mod face;
+pub mod quadric;
+pub mod rational;
+
+pub use edge::EdgeCubic;
+pub use error::ApatchError;
+pub use face::{FaceCubic, VertexData};
+pub use quadric::Quadric;

@@ -1,0 +1,123 @@
+//! Local quadric fits: the default free parameter that gives quadric precision.
+//!
+//! Theorem 4.2 of Xu–Huang–Bajaj 2001: when the vertex data come from a quadric Q, the face
+//! cubic is `Q + [f_0003 − Q(u)] τ_3²`, so `f_0003 = Q(u)` reproduces Q. The face's own data
+//! cannot tell which Q: every `Q + c·L²`, with `L` the plane of the face, has the same values
+//! and gradients at the three vertices — exactly the free-parameter family. Data off that plane
+//! (the neighbours of the face's vertices) fix `c`. [`Quadric::fit`] solves the least-squares
+//! problem `Q(p_i) = 0`, `∇Q(p_i) = N_i` over such a neighbourhood; it is exact when the data lie
+//! on one quadric, and otherwise a smooth local estimate.
+
+use crate::ApatchError;
+use glam::{DMat3, DVec3};
+use nalgebra::{DMatrix, DVector};
+
+/// `Q(x) = xᵀ A x + bᵀ x + c` with symmetric `A`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Quadric {
+    /// Symmetric quadratic part.
+    pub a: DMat3,
+    /// Linear part.
+    pub b: DVec3,
+    /// Constant.
+    pub c: f64,
+}
+
+impl Quadric {
+    /// Value at `x`.
+    pub fn value(&self, x: DVec3) -> f64 {
+        x.dot(self.a * x) + self.b.dot(x) + self.c
+    }
+
+    /// Gradient `2 A x + b`.
+    pub fn gradient(&self, x: DVec3) -> DVec3 {
+        self.a * x * 2.0 + self.b
+    }
+
+    /// Least-squares fit to points `p_i` with gradients `N_i`: `Q(p_i) = 0`, `∇Q(p_i) = N_i`.
+    ///
+    /// The unknowns are expressed about the centroid and scaled by the neighbourhood radius
+    /// `h`, and the value equations are divided by `h`, so all equations carry the units of a
+    /// gradient and the system's conditioning does not depend on where or how large the mesh
+    /// is. Rank deficiency (e.g. all points coplanar, where `Q + c L²` fit equally well) is
+    /// resolved by the minimum-norm solution of the scaled problem, which adds no `L²` term.
+    pub fn fit(samples: &[(DVec3, DVec3)]) -> Result<Quadric, ApatchError> {
+        if samples.len() < 3 {
+            return Err(ApatchError::Degenerate(format!(
+                "a quadric fit needs at least 3 points, got {}",
+                samples.len()
+            )));
+        }
+        let centre = samples.iter().map(|s| s.0).sum::<DVec3>() / samples.len() as f64;
+        let h = samples
+            .iter()
+            .map(|s| s.0.distance(centre))
+            .fold(0.0, f64::max);
+        if !(h > 0.0 && h.is_finite()) {
+            return Err(ApatchError::Degenerate(
+                "quadric fit to coincident points".into(),
+            ));
+        }
+        // Local coordinates y = (x − centre)/h; Q(x) = h·q(y) with
+        // q(y) = Σ_{k≤l} a_kl y_k y_l + Σ b_k y_k + c (10 unknowns), so ∇_x Q = ∇_y q.
+        let mut m = DMatrix::<f64>::zeros(samples.len() * 4, 10);
+        let mut r = DVector::<f64>::zeros(samples.len() * 4);
+        let pairs = [(0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2)];
+        for (s, (x, n)) in samples.iter().enumerate() {
+            let y = ((*x - centre) / h).to_array();
+            let row = 4 * s;
+            for (k, &(i, j)) in pairs.iter().enumerate() {
+                m[(row, k)] = y[i] * y[j];
+                // ∂(y_i y_j)/∂y_d
+                for d in 0..3 {
+                    let dv = if i == j {
+                        if d == i { 2.0 * y[i] } else { 0.0 }
+                    } else if d == i {
+                        y[j]
+                    } else if d == j {
+                        y[i]
+                    } else {
+                        0.0
+                    };
+                    m[(row + 1 + d, k)] = dv;
+                }
+            }
+            for d in 0..3 {
+                m[(row, 6 + d)] = y[d];
+                m[(row + 1 + d, 6 + d)] = 1.0;
+            }
+            m[(row, 9)] = 1.0;
+            r[row] = 0.0;
+            let na = n.to_array();
+            for d in 0..3 {
+                r[row + 1 + d] = na[d];
+            }
+        }
+        let svd = m.svd(true, true);
+        // Singular values below 1e-10 of the largest are treated as zero: they are the
+        // rank-deficient directions (coplanar data) or noise at the level of f64 rounding in
+        // a system whose entries are O(1) by construction.
+        let tol = 1e-10 * svd.singular_values.max();
+        let q = svd
+            .solve(&r, tol)
+            .map_err(|e| ApatchError::Degenerate(format!("quadric fit: {e}")))?;
+        // Back to x: q(y) with y = (x − centre)/h, Q = h q.
+        let al = DMat3::from_cols_array(&[
+            q[0],
+            q[3] / 2.0,
+            q[4] / 2.0,
+            q[3] / 2.0,
+            q[1],
+            q[5] / 2.0,
+            q[4] / 2.0,
+            q[5] / 2.0,
+            q[2],
+        ]);
+        let bl = DVec3::new(q[6], q[7], q[8]);
+        // h·[ (x−c)ᵀ A_l (x−c)/h² + b_lᵀ (x−c)/h + c_l ]
+        let a = al / h;
+        let b = bl - a * centre * 2.0;
+        let c = centre.dot(a * centre) - bl.dot(centre) + h * q[9];
+        Ok(Quadric { a, b, c })
+    }
+}

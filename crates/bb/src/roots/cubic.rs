@@ -1,0 +1,627 @@
+//! Closed-form roots of BB polynomials of degree ≤ 3 by Cardano's formulas, as in §4.4 of
+//! Xu–Huang–Bajaj 2001, "Rational A-patches".
+//!
+//! The paper writes the shooting polynomial as
+//! `d B_0^3(t) + c B_1^3(t) + b B_2^3(t) + a B_3^3(t) = (1 − t)^3 (d + 3cs + 3bs² + as³)` with
+//! `s = t/(1 − t) ∈ [0, ∞)` for `t ∈ [0, 1)`. So in this module's `[f64; 4]` arguments
+//! (`b_0, b_1, b_2, b_3`, the crate's storage order) `d = b_0`, `c = b_1`, `b = b_2`, `a = b_3`.
+//! With `s = x − b/a` the cubic in s becomes `x³ + px + q = 0`,
+//! `p = 3(ac − b²)/a²`, `q = (2b³ − 3abc + a²d)/a³`, with discriminant
+//! `Δ = (q/2)² + (p/3)³` and roots x₁, x₂, x₃ by (4.18)–(4.21) ([`CardanoCubic`]).
+//!
+//! Root choice ("Result" and "Corollary" of §4.4): the cube root (4.21) with arguments in
+//! `(−π, π]` makes x₁ real, and x₁ is the required (smallest in `[0, 1)`) root wherever `Δ ≥ 0`.
+//! When `ab > 0` the paper shows one branch serves the whole parameter region, and it is x₁.
+//! We make that checkable: if also `a d < 0` (in the paper `d = F(q) < 0` and the lifted
+//! `a = f_0003 > 0`), the coefficients of `d + 3cs + 3bs² + as³` have exactly one sign change
+//! whatever the sign of c, so by Descartes' rule of signs there is exactly one positive root;
+//! it is the largest real root, and for `Δ < 0` x₁ = 2ρ cos(θ/3) with θ ∈ (0, π) is the
+//! largest of the three. So [`shooting_root`] uses x₁ alone there — a continuous function of
+//! the coefficients, since (4.21) is discontinuous only at `Δ = 0, q > 0`, which the proof of
+//! the Corollary excludes (x₁ ≥ b/a > 0 forces q < 0). Elsewhere it takes the smallest
+//! non-negative s among the real branches.
+
+use super::{
+    Root, RootOptions, UNIT_ROUNDOFF as U, deflate, end_multiplicities, eval_with_derivative,
+    find_roots, validate,
+};
+use crate::BbError;
+
+/// Which formula produced a [`ShootingRoot`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Branch {
+    /// `b_0 = 0`: the root is t = 0.
+    Origin,
+    /// Degenerate leading coefficients: the s-polynomial was linear (`a ≈ 0`, `b ≈ 0`).
+    Linear,
+    /// Degenerate leading coefficient: the s-polynomial was quadratic (`a ≈ 0`).
+    Quadratic,
+    /// x₁ of (4.18).
+    X1,
+    /// x₂ of (4.19).
+    X2,
+    /// x₃ of (4.20).
+    X3,
+    /// The degenerate case needed the general solver (a root within `2^-20` of t = 1).
+    Subdivision,
+}
+
+/// The smallest root in `[0, 1)` of a cubic shooting polynomial and the formula it came from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShootingRoot {
+    /// The root `t ∈ [0, 1)`.
+    pub t: f64,
+    /// The branch of Cardano's formulas (or the degenerate case) that gave it.
+    pub branch: Branch,
+}
+
+/// The depressed cubic `x³ + px + q` of §4.4 for the Bernstein coefficients `[d, c, b, a]`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CardanoCubic {
+    /// `b/a`: `s = x − b/a`.
+    pub shift: f64,
+    /// `p = 3(ac − b²)/a²`.
+    pub p: f64,
+    /// `q = (2b³ − 3abc + a²d)/a³`.
+    pub q: f64,
+    /// `Δ = (q/2)² + (p/3)³`.
+    pub delta: f64,
+}
+
+impl CardanoCubic {
+    /// The depressed form of `Σ b_k B_k^3(t)` (`b = [d, c, b, a]`), or `None` when `a = 0` or a
+    /// value is not finite. Computed through `β = b/a`, `γ = c/a`, `δ = d/a`:
+    /// `p = 3(γ − β²)`, `q = β(2β² − 3γ) + δ` (the same expressions divided out).
+    ///
+    /// ```
+    /// use algesurf_bb::roots::CardanoCubic;
+    /// // (t − 1/2)(t − 1/4)(t − 3/4) has three real roots: Δ < 0.
+    /// let c = CardanoCubic::new([-3.0 / 32.0, 13.0 / 96.0, -13.0 / 96.0, 3.0 / 32.0]).unwrap();
+    /// assert!(c.delta < 0.0);
+    /// let s: Vec<f64> = c.real_branches().iter().map(|x| x - c.shift).collect();
+    /// // s = t/(1 − t) = 3, 1/3, 1 for t = 3/4, 1/4, 1/2: x₁ is the largest, x₂ the smallest.
+    /// assert!((s[0] - 3.0).abs() < 1e-14 && (s[1] - 1.0 / 3.0).abs() < 1e-14);
+    /// assert!((s[2] - 1.0).abs() < 1e-14);
+    /// ```
+    #[inline]
+    pub fn new(coeffs: [f64; 4]) -> Option<Self> {
+        let [d, c, b, a] = coeffs;
+        if a == 0.0 || !(a.is_finite() && b.is_finite() && c.is_finite() && d.is_finite()) {
+            return None;
+        }
+        let (beta, gamma, delta0) = (b / a, c / a, d / a);
+        let p = 3.0 * (gamma - beta * beta);
+        let q = beta * (2.0 * beta * beta - 3.0 * gamma) + delta0;
+        let half_q = 0.5 * q;
+        let third_p = p / 3.0;
+        let delta = half_q * half_q + third_p * third_p * third_p;
+        let out = CardanoCubic {
+            shift: beta,
+            p,
+            q,
+            delta,
+        };
+        (p.is_finite() && q.is_finite() && delta.is_finite()).then_some(out)
+    }
+
+    /// x₁ of (4.18), always real. For `Δ ≥ 0`: `∛(−q/2 + √Δ) + ∛(−q/2 − √Δ)` with real cube
+    /// roots, computed without cancellation as `u − p/(3u)` where `u` is the cube root of the
+    /// term of larger magnitude (the two cube roots multiply to `∛(q²/4 − Δ) = −p/3`). For
+    /// `Δ < 0`: by (4.21), `2ρ cos(θ/3)` with `ρ = √(−p/3)` and
+    /// `θ = arg(−q/2 + i√(−Δ)) ∈ (0, π)`.
+    #[inline]
+    pub fn x1(&self) -> f64 {
+        if self.delta >= 0.0 {
+            let (u, v) = self.real_cube_roots();
+            u + v
+        } else {
+            let (rho, theta) = self.polar();
+            2.0 * rho * (theta / 3.0).cos()
+        }
+    }
+
+    /// `(u, v) = (∛(−q/2 ± √Δ))` for `Δ ≥ 0` (real cube roots), the larger-magnitude term first.
+    #[inline]
+    fn real_cube_roots(&self) -> (f64, f64) {
+        let sq = self.delta.max(0.0).sqrt();
+        let h = -0.5 * self.q;
+        // |h| + √Δ: no cancellation; sign of h (either sign when h = 0).
+        let big = if h >= 0.0 { h + sq } else { h - sq };
+        let u = big.cbrt();
+        if u == 0.0 {
+            return (0.0, 0.0);
+        }
+        (u, -self.p / (3.0 * u))
+    }
+
+    /// `(ρ, θ)` of (4.21) for `Δ < 0`.
+    #[inline]
+    fn polar(&self) -> (f64, f64) {
+        let rho = (-self.p / 3.0).max(0.0).sqrt();
+        let theta = (-self.delta).sqrt().atan2(-0.5 * self.q);
+        (rho, theta)
+    }
+
+    /// The three values x₁, x₂, x₃ of (4.18)–(4.20) as complex numbers `(re, im)`, with
+    /// `ω = (−1 + i√3)/2` and the cube roots of (4.21).
+    pub fn branches(&self) -> [(f64, f64); 3] {
+        if self.delta >= 0.0 {
+            // x₂ = ωu + ω²v = −(u+v)/2 + i(√3/2)(u − v), x₃ its conjugate. `real_cube_roots`
+            // returns the larger term first; (4.19) has u for −q/2 + √Δ.
+            let (big, small) = self.real_cube_roots();
+            let (u, v) = if -0.5 * self.q >= 0.0 {
+                (big, small)
+            } else {
+                (small, big)
+            };
+            let re = -0.5 * (u + v);
+            let im = 0.5 * 3f64.sqrt() * (u - v);
+            [(u + v, 0.0), (re, im), (re, -im)]
+        } else {
+            let [x1, x2, x3] = self.real_branches_delta_negative();
+            [(x1, 0.0), (x2, 0.0), (x3, 0.0)]
+        }
+    }
+
+    /// For `Δ < 0`: `u = ρ e^{iθ/3}`, `v = ū`, so x₂ = ωu + ω²v = 2ρ cos(θ/3 + 2π/3) and
+    /// x₃ = ω²u + ωv = 2ρ cos(θ/3 − 2π/3).
+    fn real_branches_delta_negative(&self) -> [f64; 3] {
+        let (rho, theta) = self.polar();
+        let third = theta / 3.0;
+        let w = 2.0 * std::f64::consts::FRAC_PI_3;
+        [
+            2.0 * rho * third.cos(),
+            2.0 * rho * (third + w).cos(),
+            2.0 * rho * (third - w).cos(),
+        ]
+    }
+
+    /// The real values among x₁, x₂, x₃ (in that order): one when `Δ > 0`, three otherwise
+    /// (with x₂ = x₃ when `Δ = 0`).
+    pub fn real_branches(&self) -> Vec<f64> {
+        if self.delta > 0.0 {
+            vec![self.x1()]
+        } else if self.delta == 0.0 {
+            // Δ = 0: u = v = ∛(−q/2), x₁ = 2u, x₂ = x₃ = −u.
+            let x1 = self.x1();
+            vec![x1, -0.5 * x1, -0.5 * x1]
+        } else {
+            self.real_branches_delta_negative().to_vec()
+        }
+    }
+}
+
+/// Value and derivative of a cubic in Bernstein form by de Casteljau (convex combinations for
+/// t ∈ [0, 1]: absolute error ≤ 6u max|b_k|).
+#[inline(always)]
+fn eval3(b: &[f64; 4], t: f64) -> (f64, f64) {
+    let s = 1.0 - t;
+    let b01 = s * b[0] + t * b[1];
+    let b12 = s * b[1] + t * b[2];
+    let b23 = s * b[2] + t * b[3];
+    let c0 = s * b01 + t * b12;
+    let c1 = s * b12 + t * b23;
+    (s * c0 + t * c1, 3.0 * (c1 - c0))
+}
+
+/// Below this relative size (`|a| ≤ 2^-20 Σ|b_k|`) the leading coefficient is treated as zero
+/// and the s-polynomial as quadratic ("a = 0"). Why this scale: Cardano's shift
+/// `s = x − b/a` cancels about `log2|b/a|` bits, so for `|a/b| ≥ 2^-20` the start is accurate
+/// to ~2^-33 and two Newton steps reach full precision; below it, dropping `a` moves the
+/// quadratic's roots by O(a/b) ≤ 2^-20 relative, which Newton on the full cubic (three
+/// steps) removes. The root that `a` adds near `t = 1` (at `1 − t ≈ |a/(3b)|`) is recovered
+/// separately when the quadratic has none.
+const DEGENERATE_A: f64 = 1.0 / 1048576.0;
+
+/// Maximum Newton steps of the polish (quadratic convergence from ≥ 2^-33 relative error
+/// needs two; the third covers the degenerate start).
+const NEWTON_STEPS: usize = 4;
+
+/// The smallest root in `[0, 1)` of the cubic shooting polynomial `Σ b_k B_k^3(t)` (§4.4 of
+/// Xu–Huang–Bajaj 2001), with the paper's branch choice (see the [module docs](self)), polished
+/// by safeguarded Newton steps. `Ok(None)` when there is no root in `[0, 1)`.
+///
+/// Errors: a non-finite coefficient, or the zero polynomial.
+///
+/// ```
+/// use algesurf_bb::roots::{Branch, shooting_root};
+/// // b_0 < 0 < b_2, b_3 (the lifted shooting polynomial): x₁ by the Corollary.
+/// let r = shooting_root([-1.0, 0.5, 2.0, 3.0])?.unwrap();
+/// assert_eq!(r.branch, Branch::X1);
+/// let p = |t: f64| -(1.0 - t).powi(3) + 1.5 * t * (1.0 - t).powi(2) + 6.0 * t * t * (1.0 - t) + 3.0 * t.powi(3);
+/// assert!(p(r.t).abs() < 1e-15);
+/// # Ok::<(), algesurf_bb::BbError>(())
+/// ```
+#[inline]
+pub fn shooting_root(coeffs: [f64; 4]) -> Result<Option<ShootingRoot>, BbError> {
+    let [d, c, b, a] = coeffs;
+    if !(d.is_finite() && c.is_finite() && b.is_finite() && a.is_finite()) {
+        return Err(BbError::NonFinite {
+            what: "shooting polynomial coefficient",
+        });
+    }
+    if d == 0.0 {
+        return Ok(Some(ShootingRoot {
+            t: 0.0,
+            branch: Branch::Origin,
+        }));
+    }
+    let scale = d.abs() + c.abs() + b.abs() + a.abs();
+    let (s, branch) = if a.abs() <= DEGENERATE_A * scale {
+        match degenerate_s(d, c, b, scale) {
+            Some(found) => found,
+            None => return degenerate_near_one(coeffs),
+        }
+    } else {
+        // `new` only fails for a = 0 or overflow; the latter is out of range for a cubic
+        // whose coefficients are finite and |a| ≥ 2^-20 scale, so fall back defensively.
+        let Some(cc) = CardanoCubic::new(coeffs) else {
+            return degenerate_near_one(coeffs);
+        };
+        match cardano_smallest_s(&cc, a, b, d) {
+            Some(found) => found,
+            None => return Ok(None),
+        }
+    };
+    let t = s / (1.0 + s);
+    if t >= 1.0 {
+        // s beyond 2^53: the root is t = 1 to working precision, outside [0, 1).
+        return Ok(None);
+    }
+    Ok(Some(ShootingRoot {
+        t: polish(&coeffs, t),
+        branch,
+    }))
+}
+
+/// The §4.4 branch choice: x₁ alone in the Corollary's case, else the smallest admissible s.
+#[inline]
+fn cardano_smallest_s(cc: &CardanoCubic, a: f64, b: f64, d: f64) -> Option<(f64, Branch)> {
+    // Rounding of s = x − b/a: a few ulps of |x| + |b/a| (x carries the error of cbrt/cos and
+    // of p, q, which are O(u) relative to |b/a|² and |b/a|³); roots at t ≈ 0 may come out at
+    // slightly negative s and are clamped to 0, then polished.
+    let tol = |x: f64| 16.0 * U * (x.abs() + cc.shift.abs());
+    if a * b > 0.0 && a * d < 0.0 {
+        let x = cc.x1();
+        let s = x - cc.shift;
+        return (s >= -tol(x)).then_some((s.max(0.0), Branch::X1));
+    }
+    let mut best: Option<(f64, Branch)> = None;
+    let mut consider = |x: f64, br: Branch| {
+        let s = x - cc.shift;
+        if s >= -tol(x) && best.is_none_or(|(bs, _)| s.max(0.0) < bs) {
+            best = Some((s.max(0.0), br));
+        }
+    };
+    if cc.delta > 0.0 {
+        consider(cc.x1(), Branch::X1);
+    } else {
+        let [x1, x2, x3] = if cc.delta == 0.0 {
+            let x1 = cc.x1();
+            [x1, -0.5 * x1, -0.5 * x1]
+        } else {
+            cc.real_branches_delta_negative()
+        };
+        consider(x1, Branch::X1);
+        consider(x2, Branch::X2);
+        consider(x3, Branch::X3);
+    }
+    best
+}
+
+/// "a = 0": the smallest root s ≥ 0 of `3b s² + 3c s + d` (or of `3c s + d` when b is
+/// negligible at the same scale). The quadratic uses the cancellation-free form
+/// `s = k/(3b)`, `s' = d/k` with `k = −(3c + sign(c)√D)/2`, `D = 9c² − 12bd`.
+fn degenerate_s(d: f64, c: f64, b: f64, scale: f64) -> Option<(f64, Branch)> {
+    if b.abs() <= DEGENERATE_A * scale {
+        let s = -d / (3.0 * c);
+        return (s.is_finite() && s >= 0.0).then_some((s, Branch::Linear));
+    }
+    let (qa, qb, qc) = (3.0 * b, 3.0 * c, d);
+    let disc = qb * qb - 4.0 * qa * qc;
+    if disc < 0.0 {
+        return None;
+    }
+    let k = -0.5 * (qb + disc.sqrt().copysign(qb));
+    let mut best: Option<f64> = None;
+    for s in [k / qa, qc / k] {
+        if s.is_finite() && s >= 0.0 && best.is_none_or(|bs| s < bs) {
+            best = Some(s);
+        }
+    }
+    best.map(|s| (s, Branch::Quadratic))
+}
+
+/// The degenerate case without a quadratic root: any root in `[0, 1)` lies within the
+/// `O(|a/b|)` neighbourhood of t = 1 that the dropped `a` creates; the general solver finds it.
+#[cold]
+fn degenerate_near_one(coeffs: [f64; 4]) -> Result<Option<ShootingRoot>, BbError> {
+    let roots = find_roots(&coeffs)?;
+    Ok(roots.iter().find(|r| r.t < 1.0).map(|r| ShootingRoot {
+        t: r.t,
+        branch: Branch::Subdivision,
+    }))
+}
+
+/// Safeguarded Newton polish of a root of the cubic near `t`: the bracket `[lo, hi]` starts as
+/// `[0, 1]` and is narrowed by the sign of p at each iterate (the smallest root separates the
+/// sign of `p(0) = b_0` from the opposite sign); a step that would leave the bracket, or that
+/// is not finite, ends the polish with the current iterate. Stops at a step below 2u|t|.
+#[inline]
+fn polish(b: &[f64; 4], t0: f64) -> f64 {
+    let neg0 = b[0] < 0.0;
+    let (mut lo, mut hi) = (0.0f64, 1.0f64);
+    let mut t = t0;
+    for _ in 0..NEWTON_STEPS {
+        let (f, df) = eval3(b, t);
+        if f == 0.0 {
+            break;
+        }
+        if (f < 0.0) == neg0 {
+            lo = t;
+        } else {
+            hi = t;
+        }
+        let next = t - f / df;
+        if !(next >= lo && next <= hi) {
+            break;
+        }
+        let step = (next - t).abs();
+        t = next;
+        if step <= 2.0 * U * t {
+            break;
+        }
+    }
+    t
+}
+
+/// All real roots in `[0, 1]` of `Σ b_k B_k^n(t)` for `n ≤ 3` (1 to 4 coefficients), sorted,
+/// with multiplicities, by the closed forms of [`cubic_roots_closed_form`]; when its
+/// verification fails it falls back to [`find_roots`].
+///
+/// ```
+/// use algesurf_bb::roots::cubic_roots;
+/// // (t − 1/2)²(t − 1) has Bernstein coefficients −1/4, 1/6, −1/12, 0.
+/// let r = cubic_roots(&[-0.25, 1.0 / 6.0, -1.0 / 12.0, 0.0])?;
+/// assert_eq!(r.len(), 2);
+/// assert!((r[0].t - 0.5).abs() < 1e-8 && r[0].multiplicity == 2);
+/// assert!(r[1].t == 1.0 && r[1].multiplicity == 1);
+/// # Ok::<(), algesurf_bb::BbError>(())
+/// ```
+pub fn cubic_roots(coeffs: &[f64]) -> Result<Vec<Root>, BbError> {
+    match cubic_roots_closed_form(coeffs)? {
+        Some(r) => Ok(r),
+        None => find_roots(coeffs),
+    }
+}
+
+/// The closed-form root set of a BB polynomial of degree ≤ 3 on `[0, 1]`, or `Ok(None)` when
+/// the result fails its verification (then use [`find_roots`]).
+///
+/// Steps: roots at t = 0 and 1 and exact deflation as in [`find_roots`] (same error model,
+/// [`RootOptions::for_degree`]); then the linear root, the quadratic by the cancellation-free
+/// formula in `s = t/(1−t)`, or the cubic by Cardano (§4.4), written in whichever of t or
+/// 1 − t makes `|a| ≥ |d|` (the shift b/a then cancels least). Multiple roots are recognised
+/// from the discriminant within its first-order perturbation bound (`Δ ≈ 0`: a double root
+/// x₂ = x₃; also `p ≈ q ≈ 0`: a triple root) and located as the simple root of the first or
+/// second derivative. Every root is polished by Newton steps inside a bracket; the result is
+/// rejected when a polished root leaves `[0, 1]`, two roots collapse, or a residual exceeds
+/// the rounding bound.
+pub fn cubic_roots_closed_form(coeffs: &[f64]) -> Result<Option<Vec<Root>>, BbError> {
+    let m = validate(coeffs)?;
+    let n = coeffs.len() - 1;
+    if n > 3 {
+        return Err(BbError::Degree(format!(
+            "closed-form roots need degree ≤ 3, got {n}"
+        )));
+    }
+    let bn: Vec<f64> = coeffs.iter().map(|x| x / m).collect();
+    let e0 = RootOptions::for_degree(n).relative_coefficient_error + U;
+    let (m0, m1) = end_multiplicities(&bn, e0);
+    let mut roots = Vec::new();
+    if m0 > 0 {
+        roots.push(Root {
+            t: 0.0,
+            multiplicity: m0,
+        });
+    }
+    if m1 > 0 {
+        roots.push(Root {
+            t: 1.0,
+            multiplicity: m1,
+        });
+    }
+    let (q, qe) = deflate(&bn, e0, m0, m1);
+    let emax = qe.iter().fold(0.0f64, |a, x| a.max(*x));
+    let interior = match q.len() - 1 {
+        0 => Vec::new(),
+        1 => linear_roots(q[0], q[1]),
+        2 => quadratic_roots(&q, &qe),
+        _ => {
+            let reversed = q[3].abs() < q[0].abs();
+            let c = if reversed {
+                [q[3], q[2], q[1], q[0]]
+            } else {
+                [q[0], q[1], q[2], q[3]]
+            };
+            let mut r = cubic_interior(&c, emax);
+            if reversed {
+                for x in &mut r {
+                    x.t = 1.0 - x.t;
+                }
+            }
+            r
+        }
+    };
+    // Verification: inside [0, 1], residual within the rounding bound of the deflated
+    // polynomial (its coefficient errors plus de Casteljau's 2nu max|q|), with a factor 64 of
+    // slack for the perturbation a multiple root absorbs; simple roots pairwise distinct.
+    let qmax = q.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+    let bound = 64.0 * (emax + 2.0 * q.len() as f64 * U * qmax);
+    for r in &interior {
+        if !(r.t >= 0.0 && r.t <= 1.0) || super::eval(&q, r.t).abs() > bound {
+            return Ok(None);
+        }
+    }
+    let mut all: Vec<Root> = roots.into_iter().chain(interior).collect();
+    all.sort_by(|a, b| a.t.total_cmp(&b.t));
+    if all.windows(2).any(|w| w[0].t == w[1].t) {
+        return Ok(None);
+    }
+    Ok(Some(all))
+}
+
+fn linear_roots(q0: f64, q1: f64) -> Vec<Root> {
+    // q0 (1 − t) + q1 t = 0 at t = q0/(q0 − q1): one rounding in the difference (no
+    // cancellation, the signs differ) and one in the quotient.
+    if (q0 < 0.0) != (q1 < 0.0) {
+        vec![Root {
+            t: q0 / (q0 - q1),
+            multiplicity: 1,
+        }]
+    } else {
+        Vec::new()
+    }
+}
+
+/// Roots in (0, 1) of `q0 B_0^2 + q1 B_1^2 + q2 B_2^2 = (1−t)² (q0 + 2q1 s + q2 s²)`.
+fn quadratic_roots(q: &[f64], qe: &[f64]) -> Vec<Root> {
+    let (q0, q1, q2) = (q[0], q[1], q[2]);
+    let disc = q1 * q1 - q0 * q2;
+    // First-order perturbation bound of the discriminant under coefficient errors qe, plus the
+    // rounding of its own evaluation (2u of each product, u for the difference).
+    let disc_err =
+        2.0 * q1.abs() * qe[1] + q0.abs() * qe[2] + q2.abs() * qe[0] + 3.0 * U * (q1 * q1 + (q0 * q2).abs());
+    let polish_q = |t: f64| newton_bracketed(q, t);
+    if disc.abs() <= disc_err {
+        // Double root: the zero of q' = 2[(q1 − q0)(1 − t) + (q2 − q1) t], exact formula.
+        let den = q0 - 2.0 * q1 + q2;
+        let t = (q0 - q1) / den;
+        return if den != 0.0 && t > 0.0 && t < 1.0 {
+            vec![Root {
+                t,
+                multiplicity: 2,
+            }]
+        } else {
+            Vec::new()
+        };
+    }
+    if disc < 0.0 {
+        return Vec::new();
+    }
+    let k = -(q1 + disc.sqrt().copysign(q1));
+    let mut out = Vec::new();
+    for s in [k / q2, q0 / k] {
+        if s.is_finite() && s > 0.0 {
+            out.push(Root {
+                t: polish_q(s / (1.0 + s)),
+                multiplicity: 1,
+            });
+        }
+    }
+    out
+}
+
+/// Interior roots of a cubic with certain, nonzero end coefficients and `|b_3| ≥ |b_0|`.
+fn cubic_interior(c: &[f64; 4], emax: f64) -> Vec<Root> {
+    let [d, cc, _, a] = *c;
+    let Some(cub) = CardanoCubic::new(*c) else {
+        return Vec::new();
+    };
+    // First-order perturbation bounds of β, γ, δ (= b/a, c/a, d/a) when each coefficient moves
+    // by emax, plus their rounding (u relative), then of p, q and Δ through their formulas,
+    // each with the rounding of its own evaluation.
+    let beta = cub.shift;
+    let (gamma, delta0) = (cc / a, d / a);
+    let ea = emax / a.abs();
+    let db = (1.0 + beta.abs()) * ea + U * beta.abs();
+    let dg = (1.0 + gamma.abs()) * ea + U * gamma.abs();
+    let dd = (1.0 + delta0.abs()) * ea + U * delta0.abs();
+    let dp = 3.0 * dg + 6.0 * beta.abs() * db + 4.0 * U * (3.0 * gamma.abs() + 3.0 * beta * beta);
+    let dq = (6.0 * beta * beta + 3.0 * gamma.abs()) * db
+        + 3.0 * beta.abs() * dg
+        + dd
+        + 6.0 * U * (2.0 * beta.abs().powi(3) + 3.0 * (beta * gamma).abs() + delta0.abs());
+    let (p, q) = (cub.p, cub.q);
+    let dd_delta = 0.5 * q.abs() * dq
+        + p * p / 9.0 * dp
+        + 0.25 * dq * dq
+        + (p.abs() + dp) * dp * dp / 9.0
+        + 4.0 * U * (0.25 * q * q + p.abs().powi(3) / 27.0);
+    let mut xs: Vec<(f64, usize)> = Vec::with_capacity(3);
+    if p.abs() <= dp && q.abs() <= dq {
+        xs.push((0.0, 3));
+    } else if cub.delta.abs() <= dd_delta {
+        // Δ = 0: u = v = ∛(−q/2): x₁ = 2u simple, x₂ = x₃ = −u double.
+        let u = (-0.5 * q).cbrt();
+        xs.push((2.0 * u, 1));
+        xs.push((-u, 2));
+    } else if cub.delta > 0.0 {
+        xs.push((cub.x1(), 1));
+    } else {
+        for x in cub.real_branches_delta_negative() {
+            xs.push((x, 1));
+        }
+    }
+    let mut out = Vec::new();
+    for (x, mult) in xs {
+        let s = x - beta;
+        let tol = 16.0 * U * (x.abs() + beta.abs());
+        if !(s > -tol) {
+            continue;
+        }
+        let t0 = (s.max(0.0)) / (1.0 + s.max(0.0));
+        let t = match mult {
+            1 => newton_bracketed(c, t0),
+            2 => newton_bracketed(&super::derivative_coeffs(c, 1), t0),
+            _ => {
+                // The zero of q'' (linear): exact formula as for the linear case.
+                let d2 = super::derivative_coeffs(c, 2);
+                let den = d2[0] - d2[1];
+                if den != 0.0 { d2[0] / den } else { t0 }
+            }
+        };
+        if t > 0.0 && t < 1.0 {
+            out.push(Root {
+                t,
+                multiplicity: mult,
+            });
+        }
+    }
+    out
+}
+
+/// Newton polish of a simple root of `c` near `t0`, safeguarded by a bracket around `t0`: the
+/// bracket is grown geometrically from `t0` until `c` changes sign over it (within [0, 1]); if
+/// it does, Newton–bisection ([`super::bracketed_root`]) runs on the bracket, else `t0` is kept.
+fn newton_bracketed(c: &[f64], t0: f64) -> f64 {
+    let f0 = eval_with_derivative(c, t0).0;
+    if f0 == 0.0 {
+        return t0;
+    }
+    // Start with a half-width of 2^-30 (Cardano's start is at least that accurate away from
+    // the degenerate cases) and double it up to the whole interval.
+    let mut h = (t0.abs().max(1e-300) * 1e-9).max(1e-300);
+    while h < 1.0 {
+        let lo = (t0 - h).max(0.0);
+        let hi = (t0 + h).min(1.0);
+        let (flo, fhi) = (super::eval(c, lo), super::eval(c, hi));
+        if (flo < 0.0) != (fhi < 0.0) && flo != 0.0 && fhi != 0.0 {
+            let local = super::restrict(c, lo, hi);
+            let w = hi - lo;
+            let u = super::bracketed_root(&local, |u| 2.0 * U * (lo + u * w).max(f64::MIN_POSITIVE) / w);
+            return (lo + u * w).clamp(lo, hi);
+        }
+        if flo == 0.0 {
+            return lo;
+        }
+        if fhi == 0.0 {
+            return hi;
+        }
+        if lo == 0.0 && hi == 1.0 {
+            break;
+        }
+        h *= 8.0;
+    }
+    t0
+}

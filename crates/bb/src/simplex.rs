@@ -1,0 +1,184 @@
+//! Simplices of dimension 1, 2, 3 (segment, triangle, tetrahedron) in R^3, with barycentric ↔
+//! Cartesian conversion.
+//!
+//! For a simplex `[v_0 … v_{N−1}]` let `E = [v_1 − v_0, …, v_{N−1} − v_0]`. The barycentric
+//! coordinates of `p` are `τ_k = g_k · (p − v_0)` for k ≥ 1 and `τ_0 = 1 − Σ_{k≥1} τ_k`, where the
+//! dual vectors `g_k` are the rows of the pseudo-inverse `(EᵀE)⁻¹Eᵀ`. For a tetrahedron this is
+//! the exact inverse and `g_k = ∇τ_k`; for a triangle or segment in R^3 it gives the coordinates
+//! of the orthogonal projection of `p` onto the simplex's affine hull. The dual vectors are
+//! computed once, so each conversion costs a few dot products.
+
+use crate::BbError;
+use glam::{DVec2, DVec3};
+use nalgebra::DMatrix;
+
+/// Relative degeneracy threshold: a simplex whose measure `sqrt(det EᵀE)` is below
+/// `DEGENERACY_TOLERANCE · L^d` (L the longest edge, d the dimension) is rejected.
+///
+/// Why this scale: the condition number of the barycentric map grows like `L^d / measure`, so
+/// at 1e-10 barycentric coordinates computed in f64 keep about 6 significant digits — the
+/// least that the continuity checks of this crate (relative 1e-9) can work with. The ratio is
+/// invariant under scaling and translation, so it suits meshes of any size.
+pub const DEGENERACY_TOLERANCE: f64 = 1e-10;
+
+/// A simplex with N vertices in R^3 (N = 2 segment, 3 triangle, 4 tetrahedron).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Simplex<const N: usize> {
+    vertices: [DVec3; N],
+    /// Dual vectors: `τ_k(p) = duals[k] · (p − v_0)` for k ≥ 1; `duals[0] = −Σ_{k≥1} duals[k]`.
+    duals: [DVec3; N],
+    relative_measure: f64,
+}
+
+/// A line segment `[v_0 v_1]`.
+pub type Segment = Simplex<2>;
+/// A triangle `[v_0 v_1 v_2]`.
+pub type Triangle = Simplex<3>;
+/// A tetrahedron `[v_0 v_1 v_2 v_3]`.
+pub type Tetrahedron = Simplex<4>;
+
+impl<const N: usize> Simplex<N> {
+    /// A simplex from its vertices, rejecting non-finite or degenerate input (see
+    /// [`DEGENERACY_TOLERANCE`]).
+    ///
+    /// ```
+    /// use algesurf_bb::Tetrahedron;
+    /// use glam::DVec3;
+    /// let t = Tetrahedron::new([DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::Z]).unwrap();
+    /// let tau = t.barycentric(DVec3::new(0.25, 0.25, 0.25));
+    /// assert!((tau[0] - 0.25).abs() < 1e-15);
+    /// assert!(Tetrahedron::new([DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::X + DVec3::Y]).is_err());
+    /// ```
+    pub fn new(vertices: [DVec3; N]) -> Result<Self, BbError> {
+        const { assert!(N >= 2 && N <= 4, "simplices have 2, 3 or 4 vertices in R^3") };
+        if vertices.iter().any(|v| !v.is_finite()) {
+            return Err(BbError::NonFinite {
+                what: "simplex vertex",
+            });
+        }
+        let m = N - 1;
+        let edges: Vec<DVec3> = (1..N).map(|k| vertices[k] - vertices[0]).collect();
+        let mut longest: f64 = 0.0;
+        for a in 0..N {
+            for b in a + 1..N {
+                longest = longest.max(vertices[a].distance(vertices[b]));
+            }
+        }
+        let gram = DMatrix::from_fn(m, m, |i, j| edges[i].dot(edges[j]));
+        let det = gram.determinant().max(0.0);
+        let relative_measure = if longest > 0.0 {
+            det.sqrt() / longest.powi(m as i32)
+        } else {
+            0.0
+        };
+        if relative_measure.is_nan() || relative_measure < DEGENERACY_TOLERANCE {
+            return Err(BbError::DegenerateSimplex {
+                relative_measure,
+                tolerance: DEGENERACY_TOLERANCE,
+            });
+        }
+        let inv = gram
+            .try_inverse()
+            .ok_or_else(|| BbError::Singular("Gram matrix of a non-degenerate simplex".into()))?;
+        let mut duals = [DVec3::ZERO; N];
+        for k in 0..m {
+            let mut g = DVec3::ZERO;
+            for (l, e) in edges.iter().enumerate() {
+                g += *e * inv[(k, l)];
+            }
+            duals[k + 1] = g;
+        }
+        duals[0] = -duals[1..].iter().copied().sum::<DVec3>();
+        Ok(Simplex {
+            vertices,
+            duals,
+            relative_measure,
+        })
+    }
+
+    /// The vertices.
+    #[inline]
+    pub fn vertices(&self) -> &[DVec3; N] {
+        &self.vertices
+    }
+
+    /// Vertex `i`.
+    #[inline]
+    pub fn vertex(&self, i: usize) -> DVec3 {
+        self.vertices[i]
+    }
+
+    /// `sqrt(det EᵀE) / L^d`: 0 for a degenerate simplex; about 0.41 (tetrahedron), 0.87
+    /// (triangle) and 1 (segment) for regular ones.
+    #[inline]
+    pub fn relative_measure(&self) -> f64 {
+        self.relative_measure
+    }
+
+    /// Barycentric coordinates of `p` (of its orthogonal projection onto the affine hull when
+    /// N < 4). They sum to 1 up to rounding.
+    #[inline]
+    pub fn barycentric(&self, p: DVec3) -> [f64; N] {
+        let d = p - self.vertices[0];
+        let mut tau = [0.0; N];
+        let mut rest = 1.0;
+        for k in 1..N {
+            tau[k] = self.duals[k].dot(d);
+            rest -= tau[k];
+        }
+        tau[0] = rest;
+        tau
+    }
+
+    /// The point with barycentric coordinates `tau`.
+    #[inline]
+    pub fn point(&self, tau: [f64; N]) -> DVec3 {
+        let mut p = DVec3::ZERO;
+        for k in 0..N {
+            p += self.vertices[k] * tau[k];
+        }
+        p
+    }
+
+    /// The barycentric direction (components summing to 0) of the Cartesian vector `v`
+    /// (of its projection onto the affine hull when N < 4).
+    #[inline]
+    pub fn barycentric_direction(&self, v: DVec3) -> [f64; N] {
+        let mut d = [0.0; N];
+        for k in 0..N {
+            d[k] = self.duals[k].dot(v);
+        }
+        d
+    }
+
+    /// The Cartesian vector of a barycentric direction.
+    #[inline]
+    pub fn cartesian_direction(&self, d: [f64; N]) -> DVec3 {
+        let mut v = DVec3::ZERO;
+        for k in 0..N {
+            v += self.vertices[k] * d[k];
+        }
+        v
+    }
+
+    /// The gradients `∇τ_k` of the barycentric coordinates (in-plane for a triangle, along the
+    /// segment for a segment). They sum to zero.
+    #[inline]
+    pub fn barycentric_gradients(&self) -> &[DVec3; N] {
+        &self.duals
+    }
+}
+
+impl Triangle {
+    /// A triangle in the plane z = 0 from 2D points: the planar domain triangles of triangular
+    /// splines and of the mixed bases.
+    pub fn planar(a: DVec2, b: DVec2, c: DVec2) -> Result<Self, BbError> {
+        Triangle::new([a.extend(0.0), b.extend(0.0), c.extend(0.0)])
+    }
+
+    /// Barycentric coordinates of a 2D point with respect to a [`Triangle::planar`] triangle.
+    #[inline]
+    pub fn barycentric_2d(&self, p: DVec2) -> [f64; 3] {
+        self.barycentric(p.extend(0.0))
+    }
+}

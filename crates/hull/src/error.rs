@@ -1,0 +1,110 @@
+//! The error type of algesurf-hull.
+
+use algesurf_bb::BbError;
+use algesurf_mesh::MeshError;
+use thiserror::Error;
+
+/// Everything that can go wrong while building a [`crate::SimplicialHull`].
+///
+/// Faces are named by their id in the *input* triangle list, vertices and edges by vertex ids
+/// of the input mesh. Refinement appends vertices, so a vertex id at or above the input vertex
+/// count names a vertex inserted by the local Butterfly refinement of §3.1.
+#[derive(Debug, Error, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum HullError {
+    /// The input mesh is malformed (index out of range, repeated vertex, ...), or a local
+    /// refinement step failed.
+    #[error("mesh error: {0}")]
+    Mesh(#[from] MeshError),
+    /// The number of normals differs from the number of vertices.
+    #[error("{vertices} vertices but {normals} normals")]
+    NormalCount {
+        /// Number of vertices.
+        vertices: usize,
+        /// Number of normals.
+        normals: usize,
+    },
+    /// A position or normal is NaN or infinite, or a normal is zero.
+    #[error("vertex {vertex}: {what} is not a finite non-zero vector")]
+    BadVertexData {
+        /// The vertex.
+        vertex: u32,
+        /// "position" or "normal".
+        what: &'static str,
+    },
+    /// A triangle has (numerically) zero area, so it has no normal `n_ijk`.
+    #[error("face {face} {vertices:?} is degenerate (zero area)")]
+    DegenerateFace {
+        /// The input face.
+        face: u32,
+        /// Its vertices.
+        vertices: [u32; 3],
+    },
+    /// An edge has more than two faces; the hull of §3 needs a manifold surface.
+    #[error("edge ({0}, {1}) has more than two faces")]
+    NonManifoldEdge(u32, u32),
+    /// Two faces traverse their common edge in the same direction, so "the positive side" is
+    /// not defined consistently (§3 assumes normals pointing to one side of the surface).
+    #[error("faces {faces:?} traverse their common edge ({}, {}) in the same direction", edge[0], edge[1])]
+    InconsistentOrientation {
+        /// The edge.
+        edge: [u32; 2],
+        /// The two input faces.
+        faces: [u32; 2],
+    },
+    /// `n_ijkᵀ n_l ≤ 0`: the vertex normal does not point to the positive side of the face, so
+    /// `t_l = (p_l − c)ᵀn_l / n_ijkᵀn_l` of §3.1 does not exist (or has the wrong sign).
+    #[error(
+        "face {face}: the normal of vertex {vertex} is not on the positive side of the face \
+         (n_ijk·n_l = {cosine:.3e} ≤ 0)"
+    )]
+    NormalNotOnPositiveSide {
+        /// The input face.
+        face: u32,
+        /// The vertex.
+        vertex: u32,
+        /// `n_ijkᵀ n_l / |n_l|`.
+        cosine: f64,
+    },
+    /// A face or edge tetrahedron came out degenerate.
+    #[error("the {what} tetrahedron of {element} is degenerate: {source}")]
+    DegenerateTetrahedron {
+        /// "positive face", "negative edge", ...
+        what: &'static str,
+        /// The face or edge, described in input ids.
+        element: String,
+        /// The underlying check.
+        source: BbError,
+    },
+    /// An edge needs an apex that its face does not have (cannot happen for a consistent
+    /// classification; see [`crate::Convexity`]).
+    #[error("edge ({}, {}) needs the {side} apex of face {face}, which that face does not have", edge[0], edge[1])]
+    MissingApex {
+        /// The edge (input ids).
+        edge: [u32; 2],
+        /// The input face.
+        face: u32,
+        /// "positive" or "negative".
+        side: &'static str,
+    },
+    /// Hull tetrahedra still intersect after the allowed number of local refinement rounds
+    /// (§3.1). `edge` is the input edge whose neighbourhood was being refined (for tetrahedra
+    /// that share no edge, the longest edge of the first one's element); `faces` are the input
+    /// faces the two tetrahedra belong to.
+    #[error(
+        "hull tetrahedra still intersect at edge ({}, {}) (input faces {} and {}) after {rounds} \
+         rounds of local Butterfly refinement",
+        edge[0], edge[1], faces[0], faces[1]
+    )]
+    UnresolvedIntersection {
+        /// The input edge (vertex ids of the input mesh).
+        edge: [u32; 2],
+        /// Input faces of the two intersecting tetrahedra.
+        faces: [u32; 2],
+        /// Rounds of refinement done.
+        rounds: usize,
+    },
+    /// An option is out of its documented range.
+    #[error("invalid option: {0}")]
+    InvalidOption(String),
+}

@@ -1,0 +1,328 @@
+//! Face tetrahedra (§3.1) and edge tetrahedra (§3.2) of one mesh, without refinement.
+
+use crate::classify::{ApexParameters, Convexity, Side, apex_parameters, classify_edge, classify_face, edge_slopes};
+use crate::{HullError, HullOptions};
+use algesurf_bb::Tetrahedron;
+use algesurf_mesh::TriMesh;
+use glam::DVec3;
+
+/// A face tetrahedron `[p_i p_j p_k w]` of §3.1, `w` the apex `u_ijk` (positive side) or
+/// `v_ijk` (negative side).
+///
+/// Vertex order: the face's three corners in the mesh's (oriented) order, then the apex
+/// **last**. The paper writes the same tetrahedron `[p_k p_i p_j u_ijk]` with `α4` the apex
+/// coordinate: a cyclic rotation of the first three, so the orientation is the same.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FaceTetrahedron {
+    /// Positive (`u`) or negative (`v`).
+    pub side: Side,
+    /// `t` with apex `= c + t n_ijk`: the paper's `t_max` or `t_min`, pushed away from the face
+    /// to at least [`HullOptions::min_apex_height`] times the longest edge when smaller (a
+    /// floor the paper does not have; it only acts where the paper's value would make the
+    /// tetrahedron (nearly) flat and keeps every property `t_max`/`t_min` exist for).
+    pub t: f64,
+    /// The apex.
+    pub apex: DVec3,
+    /// `[p_i, p_j, p_k, apex]`.
+    pub tetrahedron: Tetrahedron,
+}
+
+/// An edge tetrahedron of §3.2 for the edge `[p_i p_j]` between faces `[p_i p_j p_k]` and
+/// `[p_i p_j p_l]`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EdgeTetrahedron {
+    /// Positive (`[u_ijl p_i p_j u_ijk]`) or negative (`[v_ijl p_i p_j v_ijk]`).
+    pub side: Side,
+    /// `[w_ijl, p_i, p_j, w_ijk]` (w = u or v), the order of (4.3)/(4.4).
+    pub tetrahedron: Tetrahedron,
+    /// `μ` of (4.15): `w_ijl = μ1 p_k + μ2 p_i + μ3 p_j + μ4 w_ijk`, the barycentric coordinates
+    /// of `w_ijl` with respect to `[p_k p_i p_j w_ijk]`.
+    pub mu: [f64; 4],
+    /// `ν` of (4.15): `w_ijk = ν1 w_ijl + ν2 p_i + ν3 p_j + ν4 p_l`, with respect to
+    /// `[w_ijl p_i p_j p_l]`.
+    pub nu: [f64; 4],
+}
+
+/// One face of the (possibly refined) mesh with its hull data.
+#[derive(Clone, Debug, PartialEq)]
+pub struct HullFace {
+    /// Corner vertex ids `[i, j, k]` (mesh order; counter-clockwise seen from the positive side).
+    pub vertices: [u32; 3],
+    /// The input face this face lies in (the face map).
+    pub source_face: u32,
+    /// Convexity class (§3).
+    pub convexity: Convexity,
+    /// Ids (into [`crate::SimplicialHull::edges`]) of the edges `[i j]`, `[j k]`, `[k i]`.
+    pub edges: [u32; 3],
+    /// `c = (p_i + p_j + p_k) / 3`.
+    pub centroid: DVec3,
+    /// Unit normal `n_ijk` (right-hand rule on the corner order: the positive side).
+    pub normal: DVec3,
+    /// `t_l`, `t_lm`, `ε`, `t_max`, `t_min` of §3.1 (computed for every face, also for those
+    /// that get no apex; `None` only for zero convex faces).
+    pub parameters: Option<ApexParameters>,
+    /// The positive face tetrahedron (positive convex or nonconvex faces).
+    pub positive: Option<FaceTetrahedron>,
+    /// The negative face tetrahedron (negative convex or nonconvex faces).
+    pub negative: Option<FaceTetrahedron>,
+}
+
+impl HullFace {
+    /// The apex `u_ijk`, if the face has a positive tetrahedron.
+    pub fn u(&self) -> Option<DVec3> {
+        self.positive.map(|t| t.apex)
+    }
+    /// The apex `v_ijk`, if the face has a negative tetrahedron.
+    pub fn v(&self) -> Option<DVec3> {
+        self.negative.map(|t| t.apex)
+    }
+    /// The tetrahedron on `side`.
+    pub fn tetrahedron(&self, side: Side) -> Option<&FaceTetrahedron> {
+        match side {
+            Side::Positive => self.positive.as_ref(),
+            Side::Negative => self.negative.as_ref(),
+        }
+    }
+}
+
+/// One edge of the (possibly refined) mesh with its hull data.
+///
+/// `[i, j]` is oriented as in `face_k = [p_i p_j p_k]` (the face that runs `i → j`); the other
+/// face `face_l = [p_i p_j p_l]` runs `j → i`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct HullEdge {
+    /// `[i, j]`.
+    pub vertices: [u32; 2],
+    /// Convexity class (§3).
+    pub convexity: Convexity,
+    /// `[a, b] = [(p_j − p_i)ᵀn_j, (p_i − p_j)ᵀn_i]` ([`crate::edge_slopes`]).
+    pub slopes: [f64; 2],
+    /// The face `[p_i p_j p_k]`.
+    pub face_k: u32,
+    /// Its vertex `k` opposite the edge.
+    pub k: u32,
+    /// The face `[p_i p_j p_l]`; `None` on the boundary.
+    pub face_l: Option<u32>,
+    /// Its vertex `l`; `None` on the boundary.
+    pub l: Option<u32>,
+    /// The positive edge tetrahedron (interior positive convex or nonconvex edges).
+    pub positive: Option<EdgeTetrahedron>,
+    /// The negative edge tetrahedron (interior negative convex or nonconvex edges).
+    pub negative: Option<EdgeTetrahedron>,
+}
+
+impl HullEdge {
+    /// True on the boundary of an open mesh (one face). Boundary edges are classified like the
+    /// others but carry no edge tetrahedra.
+    pub fn is_boundary(&self) -> bool {
+        self.face_l.is_none()
+    }
+    /// The tetrahedron on `side`.
+    pub fn tetrahedron(&self, side: Side) -> Option<&EdgeTetrahedron> {
+        match side {
+            Side::Positive => self.positive.as_ref(),
+            Side::Negative => self.negative.as_ref(),
+        }
+    }
+}
+
+fn face_name(face_map: &[u32], f: usize) -> String {
+    format!("face {} (input face {})", f, face_map[f])
+}
+
+/// Checks vertex data.
+pub(crate) fn check_input(mesh: &TriMesh, normals: &[DVec3]) -> Result<(), HullError> {
+    if normals.len() != mesh.vertex_count() {
+        return Err(HullError::NormalCount {
+            vertices: mesh.vertex_count(),
+            normals: normals.len(),
+        });
+    }
+    for (v, (p, n)) in mesh.positions().iter().zip(normals).enumerate() {
+        if !p.is_finite() {
+            return Err(HullError::BadVertexData {
+                vertex: v as u32,
+                what: "position",
+            });
+        }
+        if !n.is_finite() || *n == DVec3::ZERO {
+            return Err(HullError::BadVertexData {
+                vertex: v as u32,
+                what: "normal",
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Builds faces and edges (classification, face and edge tetrahedra) of `mesh`.
+pub(crate) fn build(
+    mesh: &TriMesh,
+    normals: &[DVec3],
+    face_map: &[u32],
+    opts: &HullOptions,
+) -> Result<(Vec<HullFace>, Vec<HullEdge>), HullError> {
+    let topo = mesh.topology();
+    let pos = mesh.positions();
+    let tris = mesh.triangles();
+    let p = |v: u32| pos[v as usize];
+    let n = |v: u32| normals[v as usize];
+
+    // Edges: orientation, faces, classification.
+    let mut edges = Vec::with_capacity(topo.edge_count());
+    for e in 0..topo.edge_count() as u32 {
+        let hs = topo.edge_half_edges(e);
+        if hs.len() > 2 {
+            let [a, b] = topo.edge(e);
+            return Err(HullError::NonManifoldEdge(a, b));
+        }
+        // Half-edge c runs from corner_vertex(c) to corner_vertex(next(c)).
+        let dir = |c: u32| (topo.corner_vertex(c), topo.corner_vertex(topo.next(c)));
+        let (i, j) = dir(hs[0]);
+        let face_k = topo.corner_face(hs[0]);
+        let k = topo.corner_vertex(topo.prev(hs[0]));
+        let (face_l, l) = if hs.len() == 2 {
+            let (a, b) = dir(hs[1]);
+            let g = topo.corner_face(hs[1]);
+            if (a, b) != (j, i) {
+                return Err(HullError::InconsistentOrientation {
+                    edge: [i, j],
+                    faces: [face_map[face_k as usize], face_map[g as usize]],
+                });
+            }
+            (Some(g), Some(topo.corner_vertex(topo.prev(hs[1]))))
+        } else {
+            (None, None)
+        };
+        edges.push(HullEdge {
+            vertices: [i, j],
+            convexity: classify_edge(p(i), p(j), n(i), n(j), opts.zero_tolerance),
+            slopes: edge_slopes(p(i), p(j), n(i), n(j)),
+            face_k,
+            k,
+            face_l,
+            l,
+            positive: None,
+            negative: None,
+        });
+    }
+
+    // Faces: classification and face tetrahedra (§3.1).
+    let mut faces = Vec::with_capacity(tris.len());
+    for (f, t) in tris.iter().enumerate() {
+        let corners = [p(t[0]), p(t[1]), p(t[2])];
+        let first = topo.face_corners(f).start;
+        let fe: [u32; 3] = std::array::from_fn(|c| topo.corner_edge(first + c as u32));
+        let convexity = classify_face(fe.map(|e| edges[e as usize].convexity));
+        let longest = (0..3)
+            .map(|c| corners[c].distance(corners[(c + 1) % 3]))
+            .fold(0.0, f64::max);
+        let cross = (corners[1] - corners[0]).cross(corners[2] - corners[0]);
+        if !(cross.length() > 1e-14 * longest * longest) {
+            return Err(HullError::DegenerateFace {
+                face: face_map[f],
+                vertices: *t,
+            });
+        }
+        let normal = cross.normalize();
+        let centroid = (corners[0] + corners[1] + corners[2]) / 3.0;
+        let mut face = HullFace {
+            vertices: *t,
+            source_face: face_map[f],
+            convexity,
+            edges: fe,
+            centroid,
+            normal,
+            parameters: None,
+            positive: None,
+            negative: None,
+        };
+        if convexity != Convexity::ZeroConvex {
+            let params = apex_parameters(corners, t.map(n), normal, opts.epsilon * longest).map_err(|l| {
+                HullError::NormalNotOnPositiveSide {
+                    face: face_map[f],
+                    vertex: t[l],
+                    cosine: normal.dot(n(t[l]).normalize()),
+                }
+            })?;
+            let floor = opts.min_apex_height * longest;
+            let make = |side: Side, tt: f64| -> Result<FaceTetrahedron, HullError> {
+                let apex = centroid + tt * normal;
+                let tetrahedron = Tetrahedron::new([corners[0], corners[1], corners[2], apex]).map_err(|source| {
+                    HullError::DegenerateTetrahedron {
+                        what: if side == Side::Positive { "positive face" } else { "negative face" },
+                        element: face_name(face_map, f),
+                        source,
+                    }
+                })?;
+                Ok(FaceTetrahedron {
+                    side,
+                    t: tt,
+                    apex,
+                    tetrahedron,
+                })
+            };
+            if convexity.has_positive_side() {
+                face.positive = Some(make(Side::Positive, params.t_max.max(floor))?);
+            }
+            if convexity.has_negative_side() {
+                face.negative = Some(make(Side::Negative, params.t_min.min(-floor))?);
+            }
+            face.parameters = Some(params);
+        }
+        faces.push(face);
+    }
+
+    // Edge tetrahedra (§3.2).
+    for edge in edges.iter_mut() {
+        let (Some(face_l), Some(l)) = (edge.face_l, edge.l) else {
+            continue; // boundary: no edge tetrahedra
+        };
+        let [i, j] = edge.vertices;
+        for side in [Side::Positive, Side::Negative] {
+            let wanted = match side {
+                Side::Positive => edge.convexity.has_positive_side(),
+                Side::Negative => edge.convexity.has_negative_side(),
+            };
+            if !wanted {
+                continue;
+            }
+            let apex = |g: u32| -> Result<DVec3, HullError> {
+                faces[g as usize]
+                    .tetrahedron(side)
+                    .map(|t| t.apex)
+                    .ok_or(HullError::MissingApex {
+                        edge: [i, j],
+                        face: face_map[g as usize],
+                        side: side.name(),
+                    })
+            };
+            let wk = apex(edge.face_k)?;
+            let wl = apex(face_l)?;
+            let what = if side == Side::Positive { "positive edge" } else { "negative edge" };
+            let degenerate = |source| HullError::DegenerateTetrahedron {
+                what,
+                element: format!("edge ({i}, {j})"),
+                source,
+            };
+            let tetrahedron = Tetrahedron::new([wl, p(i), p(j), wk]).map_err(degenerate)?;
+            let mu = Tetrahedron::new([p(edge.k), p(i), p(j), wk])
+                .map_err(degenerate)?
+                .barycentric(wl);
+            let nu = Tetrahedron::new([wl, p(i), p(j), p(l)])
+                .map_err(degenerate)?
+                .barycentric(wk);
+            let et = EdgeTetrahedron {
+                side,
+                tetrahedron,
+                mu,
+                nu,
+            };
+            match side {
+                Side::Positive => edge.positive = Some(et),
+                Side::Negative => edge.negative = Some(et),
+            }
+        }
+    }
+    Ok((faces, edges))
+}

@@ -1,0 +1,142 @@
+//! The outer simplicial hull Σ of Xu, Huang and Bajaj, *C¹ modeling with A-patches from
+//! rational trivariate functions* (CAGD 2001), §3: convexity of edges and faces, face
+//! tetrahedra (§3.1), edge tetrahedra (§3.2), detection of intersecting tetrahedra and their
+//! resolution by local Butterfly refinement.
+//!
+//! ```
+//! use algesurf_hull::{Convexity, HullOptions, SimplicialHull};
+//! use glam::DVec3;
+//!
+//! // The two triangles of the paper's Fig. 6 (§6), oriented so that the normals point to the
+//! // positive side (counter-clockwise seen from +z).
+//! let p = [
+//!     DVec3::new(-2.0, 0.0, 0.0),
+//!     DVec3::new(2.0, 0.0, 0.0),
+//!     DVec3::new(0.0, 4.0, -1.0),
+//!     DVec3::new(0.0, -4.0, -1.0),
+//! ];
+//! let n = [
+//!     DVec3::new(-1.0, 0.0, 1.0).normalize(),
+//!     DVec3::new(1.0, 0.0, 1.0).normalize(),
+//!     DVec3::new(0.0, 1.0, 1.0).normalize(),
+//!     DVec3::new(0.0, -1.0, 1.0).normalize(),
+//! ];
+//! let hull = SimplicialHull::new(&p, &[[0, 1, 2], [1, 0, 3]], &n, &HullOptions::default())?;
+//! assert!(hull.faces().iter().all(|f| f.convexity == Convexity::PositiveConvex));
+//! let edge = hull.edge_between(0, 1).unwrap();
+//! assert_eq!(edge.convexity, Convexity::PositiveConvex);
+//! // Face tetrahedra [p_i p_j p_k u_ijk] and the edge tetrahedron [u_ijl p_i p_j u_ijk].
+//! let u = hull.faces()[0].u().unwrap();
+//! assert!(u.z > 0.0);
+//! assert!(edge.positive.is_some() && edge.negative.is_none());
+//! assert!(hull.intersections().is_empty());
+//! # Ok::<(), algesurf_hull::HullError>(())
+//! ```
+//!
+//! Conventions:
+//! * The positive side is the side the vertex normals point to; triangles are oriented so their
+//!   right-hand normal `n_ijk` points there (an error names any vertex whose normal has
+//!   `n_ijkᵀ n_l ≤ 0`).
+//! * Face tetrahedra are `[p_i, p_j, p_k, apex]` with the face's corners in mesh order and the
+//!   apex **last** (the paper's `[p_k p_i p_j u_ijk]` is a cyclic rotation of the same).
+//! * Edge tetrahedra are `[w_ijl, p_i, p_j, w_ijk]` as in (4.3), `[p_i p_j]` oriented as in
+//!   the face `[p_i p_j p_k]`; the barycentric coordinates `μ`, `ν` of (4.15) come with them.
+//! * Zero convex faces get no tetrahedra; zero convex and boundary edges get no edge
+//!   tetrahedra. On an open mesh the hull (and the surface) ends at the boundary: a boundary
+//!   edge is only the side of its face's tetrahedra.
+#![forbid(unsafe_code)]
+#![warn(missing_docs)]
+
+mod bvh;
+mod classify;
+mod error;
+mod hull;
+mod overlap;
+mod simplicial;
+
+pub use classify::{
+    ApexParameters, Convexity, Side, alpha, apex_parameters, classify_edge, classify_face, edge_slopes,
+    mid_edge_coefficient,
+};
+pub use error::HullError;
+pub use hull::{EdgeTetrahedron, FaceTetrahedron, HullEdge, HullFace};
+pub use overlap::{overlap_depth, tetrahedra_overlap};
+pub use simplicial::{Element, HullTetrahedron, Intersection, Refinement, SimplicialHull};
+
+/// Tolerances and parameters of the hull construction. All are relative (scale-invariant).
+#[derive(Clone, Debug, PartialEq)]
+pub struct HullOptions {
+    /// Angle (radians) below which `a = (p_j − p_i)ᵀn_j` counts as zero in the edge
+    /// classification: `|a| ≤ zero_tolerance · |p_j − p_i| · |n_j|`. Default `1e-9`.
+    ///
+    /// Why this scale: `a / (|p_j − p_i| |n_j|)` is the sine of the angle between the edge and
+    /// the tangent plane at `p_j`, so the test is independent of the mesh's size. Computing it
+    /// in f64 costs an error of about `1e-16 · |p| / |p_j − p_i|` (positions far from the
+    /// origin relative to the edge), so `1e-9` leaves a margin of `10⁶` for that ratio and
+    /// still classifies planar data whose normals were computed in floating point as zero
+    /// convex. A curved surface sampled with edges of length `h` deviates by an angle of about
+    /// `κh/2`, so only edges with `κh < 2·10⁻⁹` — flat for every practical purpose — are called
+    /// zero convex.
+    pub zero_tolerance: f64,
+    /// `ε` of §3.1 as a fraction of the face's longest edge. Default `0.1`.
+    ///
+    /// `ε` is the margin by which the apex lies beyond each vertex's tangent plane: the Step 2
+    /// coefficients `⅓ (u − p_l)ᵀn_l` are at least `⅓ ε n_ijkᵀn_l`. It must be a length, so it
+    /// is taken relative to the face size (scale invariance). Larger values give better
+    /// conditioned coefficients but taller tetrahedra, which collide with their neighbours
+    /// more often; `0.1` keeps the apex height within about 10 % of what the tangent planes
+    /// require (on a regular icosahedron with sphere normals `t_l ≈ 0.44 L`).
+    pub epsilon: f64,
+    /// The least `|t|` of an apex, as a fraction of the face's longest edge. Default `0.01`.
+    /// The paper's `t_max = max{0, …}` can be 0 for a nonconvex face, which makes a flat
+    /// tetrahedron; pushing the apex further out only increases the margins `t_max` is there
+    /// for, so this floor is safe. For positive convex faces `t_max ≥ ε` anyway.
+    pub min_apex_height: f64,
+    /// Interiors overlapping by at most this fraction of the pair's size count as touching
+    /// (see [`overlap_depth`]). Default `1e-9`: well above the rounding of shared faces
+    /// (`~1e-15` for non-sliver tetrahedra) and far below any geometric overlap that matters.
+    pub overlap_tolerance: f64,
+    /// How many rounds of local Butterfly refinement (§3.1) to try before giving up with
+    /// [`HullError::UnresolvedIntersection`]. Each round splits one edge per intersecting pair,
+    /// so the intersecting region's edges shrink by about half per round; 6 rounds (edges down
+    /// to ~1/64) resolve what refinement can resolve, and beyond that the cause is the normals
+    /// at the input vertices (which refinement never changes). Default `6`; `0` only detects.
+    pub max_refinement_rounds: usize,
+    /// Whether to look for intersecting tetrahedra at all. Default `true`.
+    pub check_intersections: bool,
+}
+
+impl Default for HullOptions {
+    fn default() -> Self {
+        HullOptions {
+            zero_tolerance: 1e-9,
+            epsilon: 0.1,
+            min_apex_height: 0.01,
+            overlap_tolerance: 1e-9,
+            max_refinement_rounds: 6,
+            check_intersections: true,
+        }
+    }
+}
+
+impl HullOptions {
+    /// Checks the ranges: tolerances finite and `≥ 0`, `epsilon` and `min_apex_height`
+    /// finite and `> 0`.
+    ///
+    /// # Errors
+    /// [`HullError::InvalidOption`] naming the option.
+    pub fn validate(&self) -> Result<(), HullError> {
+        let nonneg = [("zero_tolerance", self.zero_tolerance), ("overlap_tolerance", self.overlap_tolerance)];
+        for (name, x) in nonneg {
+            if !(x >= 0.0 && x.is_finite()) {
+                return Err(HullError::InvalidOption(format!("{name} = {x} must be finite and ≥ 0")));
+            }
+        }
+        for (name, x) in [("epsilon", self.epsilon), ("min_apex_height", self.min_apex_height)] {
+            if !(x > 0.0 && x.is_finite()) {
+                return Err(HullError::InvalidOption(format!("{name} = {x} must be finite and > 0")));
+            }
+        }
+        Ok(())
+    }
+}

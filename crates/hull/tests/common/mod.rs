@@ -1,0 +1,131 @@
+//! Shared helpers of the integration tests.
+#![allow(dead_code)]
+
+use algesurf_hull::{Side, SimplicialHull, mid_edge_coefficient};
+use glam::DVec3;
+
+/// The regular icosahedron on the unit sphere, outward oriented.
+pub fn icosahedron() -> (Vec<DVec3>, Vec<[u32; 3]>) {
+    let t = (1.0 + 5f64.sqrt()) / 2.0;
+    let raw = [
+        (-1.0, t, 0.0),
+        (1.0, t, 0.0),
+        (-1.0, -t, 0.0),
+        (1.0, -t, 0.0),
+        (0.0, -1.0, t),
+        (0.0, 1.0, t),
+        (0.0, -1.0, -t),
+        (0.0, 1.0, -t),
+        (t, 0.0, -1.0),
+        (t, 0.0, 1.0),
+        (-t, 0.0, -1.0),
+        (-t, 0.0, 1.0),
+    ];
+    let p = raw.iter().map(|&(x, y, z)| DVec3::new(x, y, z).normalize()).collect();
+    let f = vec![
+        [0, 11, 5],
+        [0, 5, 1],
+        [0, 1, 7],
+        [0, 7, 10],
+        [0, 10, 11],
+        [1, 5, 9],
+        [5, 11, 4],
+        [11, 10, 2],
+        [10, 7, 6],
+        [7, 1, 8],
+        [3, 9, 4],
+        [3, 4, 2],
+        [3, 2, 6],
+        [3, 6, 8],
+        [3, 8, 9],
+        [4, 9, 5],
+        [2, 4, 11],
+        [6, 2, 10],
+        [8, 6, 7],
+        [9, 8, 1],
+    ];
+    (p, f)
+}
+
+/// Loop-free midpoint subdivision of the icosahedron projected to the sphere.
+pub fn icosphere(level: u32) -> (Vec<DVec3>, Vec<[u32; 3]>) {
+    let (mut p, mut f) = icosahedron();
+    for _ in 0..level {
+        let mut mid = std::collections::HashMap::new();
+        let mut nf = Vec::new();
+        let mut m = |a: u32, b: u32, p: &mut Vec<DVec3>| -> u32 {
+            *mid.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                p.push(((p[a as usize] + p[b as usize]) * 0.5).normalize());
+                p.len() as u32 - 1
+            })
+        };
+        for t in &f {
+            let ab = m(t[0], t[1], &mut p);
+            let bc = m(t[1], t[2], &mut p);
+            let ca = m(t[2], t[0], &mut p);
+            nf.extend([[t[0], ab, ca], [t[1], bc, ab], [t[2], ca, bc], [ab, bc, ca]]);
+        }
+        f = nf;
+    }
+    (p, f)
+}
+
+/// Checks the properties t_l, t_lm of §3.1 exist for on every face tetrahedron: the Step 2
+/// coefficients `(w − p_l)ᵀn_l` are > 0 (u) / < 0 (v) and the Step 4 mid-edge coefficients are
+/// ≥ 0 (u) / ≤ 0 (v), up to rounding relative to the face size. Returns the smallest margin.
+pub fn check_apex_properties(hull: &SimplicialHull) -> f64 {
+    let p = hull.mesh().positions();
+    let n = hull.normals();
+    let mut least = f64::INFINITY;
+    for (f, face) in hull.faces().iter().enumerate() {
+        for side in [Side::Positive, Side::Negative] {
+            let Some(t) = face.tetrahedron(side) else { continue };
+            let s = if side == Side::Positive { 1.0 } else { -1.0 };
+            let w = t.apex;
+            let scale = (0..3)
+                .map(|c| p[face.vertices[c] as usize].distance(p[face.vertices[(c + 1) % 3] as usize]))
+                .fold(0.0, f64::max);
+            for &v in &face.vertices {
+                let x = s * (w - p[v as usize]).dot(n[v as usize]);
+                assert!(x > 0.0, "face {f} {side:?}: (w - p_{v})·n_{v} = {x}");
+                least = least.min(x / scale);
+            }
+            for c in 0..3 {
+                let (a, b) = (face.vertices[c] as usize, face.vertices[(c + 1) % 3] as usize);
+                let x = s * mid_edge_coefficient(w, p[a], p[b], n[a], n[b]);
+                assert!(x >= -1e-12 * scale, "face {f} {side:?}: Step 4 coefficient of ({a},{b}) = {x}");
+            }
+        }
+    }
+    least
+}
+
+/// The smallest relative measure over all hull tetrahedra.
+pub fn min_relative_measure(hull: &SimplicialHull) -> f64 {
+    let mut m = f64::INFINITY;
+    for f in hull.faces() {
+        for t in f.positive.iter().chain(f.negative.iter()) {
+            m = m.min(t.tetrahedron.relative_measure());
+        }
+    }
+    for e in hull.edges() {
+        for t in e.positive.iter().chain(e.negative.iter()) {
+            m = m.min(t.tetrahedron.relative_measure());
+        }
+    }
+    m
+}
+
+/// All pairs of tetrahedra checked by brute force (tests only).
+pub fn brute_force_overlaps(hull: &SimplicialHull, tol: f64) -> usize {
+    let t = hull.tetrahedra();
+    let mut k = 0;
+    for i in 0..t.len() {
+        for j in i + 1..t.len() {
+            if algesurf_hull::tetrahedra_overlap(&t[i].vertices, &t[j].vertices, tol) {
+                k += 1;
+            }
+        }
+    }
+    k
+}

@@ -1,0 +1,307 @@
+//! Spatial queries in f64 on an `obvhs` BVH.
+//!
+//! obvhs builds the tree over f32 boxes. Every f64 box is rounded *outward* to f32 and then
+//! widened by one more f32 ulp on each side (a relative padding of about `6e-8`), so each f32
+//! box contains its f64 box and the tree can never prune a primitive that the exact test
+//! would accept; node boxes are unions of those, hence conservative too. The traversal is our
+//! own (f64 tests against the node boxes), and the primitive tests are exact f64 tests
+//! ([`crate::primitives`]). Coordinates beyond the f32 range map to ±infinity in the node
+//! boxes, so they are conservative as well. Non-finite primitives are left out of the tree.
+
+use crate::TriMesh;
+use crate::geometry::Aabb;
+use crate::primitives::{closest_point_on_triangle, ray_box, ray_triangle, triangle_box_overlap};
+use glam::DVec3;
+use obvhs::bvh2::Bvh2;
+use std::time::Duration;
+
+fn down(x: f64) -> f32 {
+    let f = x as f32;
+    let f = if f as f64 > x { f.next_down() } else { f };
+    f.next_down()
+}
+fn up(x: f64) -> f32 {
+    let f = x as f32;
+    let f = if (f as f64) < x { f.next_up() } else { f };
+    f.next_up()
+}
+fn widen(x: f32, lower: bool) -> f64 {
+    match (x.is_finite(), lower) {
+        (true, _) if x.abs() < f32::MAX => x as f64,
+        (_, true) => f64::NEG_INFINITY,
+        (_, false) => f64::INFINITY,
+    }
+}
+
+/// A BVH over arbitrary f64 boxes (the primitives are box ids `0..n`).
+#[derive(Clone)]
+pub struct BoxBvh {
+    tree: Option<Bvh2>,
+    boxes: Vec<Aabb>,
+    /// Tree primitive index -> box id (non-finite boxes are not in the tree).
+    ids: Vec<u32>,
+}
+
+impl std::fmt::Debug for BoxBvh {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("BoxBvh")
+            .field("boxes", &self.boxes.len())
+            .field("nodes", &self.tree.as_ref().map_or(0, |t| t.nodes.len()))
+            .finish()
+    }
+}
+
+impl BoxBvh {
+    /// Builds the tree over `boxes`. Non-finite or empty boxes are kept (ids stay stable) but
+    /// never reported by queries.
+    pub fn new(boxes: Vec<Aabb>) -> BoxBvh {
+        let mut ids = Vec::new();
+        let mut fboxes = Vec::new();
+        for (i, b) in boxes.iter().enumerate() {
+            if b.min.is_finite() && b.max.is_finite() && !b.is_empty() {
+                ids.push(i as u32);
+                fboxes.push(obvhs::aabb::Aabb::new(
+                    [down(b.min.x), down(b.min.y), down(b.min.z)].into(),
+                    [up(b.max.x), up(b.max.y), up(b.max.z)].into(),
+                ));
+            }
+        }
+        let tree = (!fboxes.is_empty()).then(|| {
+            obvhs::bvh2::builder::build_bvh2(
+                &fboxes,
+                obvhs::BvhBuildParams::medium_build(),
+                &mut Duration::default(),
+            )
+        });
+        BoxBvh { tree, boxes, ids }
+    }
+
+    /// The boxes the tree was built over.
+    pub fn boxes(&self) -> &[Aabb] {
+        &self.boxes
+    }
+
+    /// Visits the leaves whose node box passes `node`, calling `leaf` with box ids; `node`
+    /// receives the conservative f64 node box and may use state updated by `leaf`.
+    pub(crate) fn traverse(
+        &self,
+        mut node: impl FnMut(&Aabb) -> Option<f64>,
+        mut leaf: impl FnMut(u32),
+    ) {
+        let Some(tree) = &self.tree else { return };
+        if tree.nodes.is_empty() {
+            return;
+        }
+        let nb = |i: u32| -> Aabb {
+            let a = tree.nodes[i as usize].aabb();
+            let (mn, mx) = (a.min.to_array(), a.max.to_array());
+            Aabb {
+                min: DVec3::new(widen(mn[0], true), widen(mn[1], true), widen(mn[2], true)),
+                max: DVec3::new(
+                    widen(mx[0], false),
+                    widen(mx[1], false),
+                    widen(mx[2], false),
+                ),
+            }
+        };
+        // Stack of (node, key); children are pushed far-first so the nearer one pops first.
+        let mut stack: Vec<(u32, f64)> = Vec::with_capacity(64);
+        if let Some(k) = node(&nb(0)) {
+            stack.push((0, k));
+        }
+        while let Some((i, _)) = stack.pop() {
+            let n = &tree.nodes[i as usize];
+            if n.is_leaf() {
+                let s = n.first_index as usize;
+                for &pi in &tree.primitive_indices[s..s + n.prim_count as usize] {
+                    leaf(self.ids[pi as usize]);
+                }
+                continue;
+            }
+            let (l, r) = (n.first_index, n.first_index + 1);
+            let kl = node(&nb(l));
+            let kr = node(&nb(r));
+            match (kl, kr) {
+                (Some(a), Some(b)) if a <= b => {
+                    stack.push((r, b));
+                    stack.push((l, a));
+                }
+                (Some(a), Some(b)) => {
+                    stack.push((l, a));
+                    stack.push((r, b));
+                }
+                (Some(a), None) => stack.push((l, a)),
+                (None, Some(b)) => stack.push((r, b)),
+                (None, None) => {}
+            }
+        }
+    }
+
+    /// Ids of the boxes that overlap `query` (closed boxes; touching counts), ascending.
+    pub fn overlapping(&self, query: &Aabb) -> Vec<u32> {
+        let mut out = Vec::new();
+        self.traverse(
+            |b| b.overlaps(query).then_some(0.0),
+            |i| {
+                if self.boxes[i as usize].overlaps(query) {
+                    out.push(i);
+                }
+            },
+        );
+        out.sort_unstable();
+        out
+    }
+
+    /// Ids of the boxes that contain `p`, ascending.
+    pub fn containing(&self, p: DVec3) -> Vec<u32> {
+        self.overlapping(&Aabb { min: p, max: p })
+    }
+}
+
+/// The closest point on a mesh to a query point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ClosestPoint {
+    /// The triangle it lies on.
+    pub face: u32,
+    /// The point.
+    pub point: DVec3,
+    /// Its barycentric coordinates in the triangle.
+    pub barycentric: [f64; 3],
+    /// The distance to the query point.
+    pub distance: f64,
+}
+
+/// A ray hit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RayHit {
+    /// The triangle hit.
+    pub face: u32,
+    /// Ray parameter: the hit is at `origin + t * dir`.
+    pub t: f64,
+    /// Barycentric coordinates `(1 − u − v, u, v)` of the hit.
+    pub barycentric: [f64; 3],
+}
+
+/// A BVH over the triangles of a mesh, with exact f64 closest-point, ray and box queries.
+#[derive(Clone, Debug)]
+pub struct TriangleBvh {
+    boxes: BoxBvh,
+    triangles: Vec<[DVec3; 3]>,
+}
+
+impl TriangleBvh {
+    /// Builds the tree over the triangles of `mesh` (face ids are the mesh's).
+    pub fn new(mesh: &TriMesh) -> TriangleBvh {
+        TriangleBvh::from_triangles(
+            (0..mesh.face_count())
+                .map(|f| mesh.triangle_points(f))
+                .collect(),
+        )
+    }
+
+    /// Builds the tree over triangles given by their corners.
+    pub fn from_triangles(triangles: Vec<[DVec3; 3]>) -> TriangleBvh {
+        let boxes = triangles.iter().map(Aabb::from_points).collect();
+        TriangleBvh {
+            boxes: BoxBvh::new(boxes),
+            triangles,
+        }
+    }
+
+    /// The triangles.
+    pub fn triangles(&self) -> &[[DVec3; 3]] {
+        &self.triangles
+    }
+
+    /// The closest point on the triangles to `p` (ties go to the lowest face id among those
+    /// visited first), or `None` when there are no finite triangles or `p` is not finite.
+    pub fn closest_point(&self, p: DVec3) -> Option<ClosestPoint> {
+        if !p.is_finite() {
+            return None;
+        }
+        let mut best: Option<ClosestPoint> = None;
+        let mut best_d2 = f64::INFINITY;
+        let cell = std::cell::Cell::new(f64::INFINITY);
+        self.boxes.traverse(
+            |b| {
+                let d2 = b.distance_squared(p);
+                (d2 <= cell.get()).then_some(d2)
+            },
+            |f| {
+                let [a, b, c] = self.triangles[f as usize];
+                let (q, bary) = closest_point_on_triangle(p, a, b, c);
+                let d2 = q.distance_squared(p);
+                if d2 < best_d2 || (d2 == best_d2 && best.is_some_and(|x| f < x.face)) {
+                    best_d2 = d2;
+                    cell.set(d2);
+                    best = Some(ClosestPoint {
+                        face: f,
+                        point: q,
+                        barycentric: bary,
+                        distance: d2.sqrt(),
+                    });
+                }
+            },
+        );
+        best
+    }
+
+    /// All hits of the ray `origin + t dir`, `t` in `[t_min, t_max]`, sorted by `t` (then face).
+    pub fn ray_hits(&self, origin: DVec3, dir: DVec3, t_min: f64, t_max: f64) -> Vec<RayHit> {
+        let mut out = Vec::new();
+        self.boxes.traverse(
+            |b| ray_box(origin, dir, b, t_min, t_max).map(|(t, _)| t),
+            |f| {
+                if let Some((t, u, v)) =
+                    ray_triangle(origin, dir, self.triangles[f as usize], t_min, t_max)
+                {
+                    out.push(RayHit {
+                        face: f,
+                        t,
+                        barycentric: [1.0 - u - v, u, v],
+                    });
+                }
+            },
+        );
+        out.sort_by(|a, b| a.t.total_cmp(&b.t).then(a.face.cmp(&b.face)));
+        out
+    }
+
+    /// The first hit of the ray (smallest `t` in `[t_min, t_max]`, ties to the lowest face).
+    pub fn ray_hit(&self, origin: DVec3, dir: DVec3, t_min: f64, t_max: f64) -> Option<RayHit> {
+        let mut best: Option<RayHit> = None;
+        let limit = std::cell::Cell::new(t_max);
+        self.boxes.traverse(
+            |b| ray_box(origin, dir, b, t_min, limit.get()).map(|(t, _)| t),
+            |f| {
+                if let Some((t, u, v)) =
+                    ray_triangle(origin, dir, self.triangles[f as usize], t_min, t_max)
+                {
+                    let better = match best {
+                        None => true,
+                        Some(h) => t < h.t || (t == h.t && f < h.face),
+                    };
+                    if better {
+                        limit.set(t);
+                        best = Some(RayHit {
+                            face: f,
+                            t,
+                            barycentric: [1.0 - u - v, u, v],
+                        });
+                    }
+                }
+            },
+        );
+        best
+    }
+
+    /// Ids of the triangles that share a point with the closed box `query` (exact
+    /// separating-axis test), ascending.
+    pub fn triangles_overlapping_box(&self, query: &Aabb) -> Vec<u32> {
+        self.boxes
+            .overlapping(query)
+            .into_iter()
+            .filter(|&f| triangle_box_overlap(self.triangles[f as usize], query))
+            .collect()
+    }
+}

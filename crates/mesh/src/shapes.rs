@@ -1,0 +1,145 @@
+//! Small meshes built in code, for tests, examples and benchmarks.
+
+use crate::TriMesh;
+use glam::DVec3;
+use std::collections::HashMap;
+use std::f64::consts::PI;
+
+fn build(positions: Vec<DVec3>, triangles: Vec<[u32; 3]>) -> TriMesh {
+    // The generators below only produce in-range, non-repeating triangles.
+    TriMesh::new(positions, triangles)
+        .unwrap_or_else(|e| unreachable!("generated mesh invalid: {e}"))
+}
+
+/// The regular octahedron with vertices at ±x, ±y, ±z (outward oriented).
+pub fn octahedron() -> TriMesh {
+    let p = vec![
+        DVec3::X,
+        DVec3::NEG_X,
+        DVec3::Y,
+        DVec3::NEG_Y,
+        DVec3::Z,
+        DVec3::NEG_Z,
+    ];
+    let t = vec![
+        [0, 2, 4],
+        [2, 1, 4],
+        [1, 3, 4],
+        [3, 0, 4],
+        [2, 0, 5],
+        [1, 2, 5],
+        [3, 1, 5],
+        [0, 3, 5],
+    ];
+    build(p, t)
+}
+
+/// The unit icosahedron subdivided `level` times (edges split at midpoints, new vertices
+/// projected to the unit sphere). Outward oriented; 12 vertices of valence 5, the rest 6.
+pub fn icosphere(level: u32) -> TriMesh {
+    let g = (1.0 + 5f64.sqrt()) / 2.0;
+    let mut pos: Vec<DVec3> = [
+        [-1.0, g, 0.0],
+        [1.0, g, 0.0],
+        [-1.0, -g, 0.0],
+        [1.0, -g, 0.0],
+        [0.0, -1.0, g],
+        [0.0, 1.0, g],
+        [0.0, -1.0, -g],
+        [0.0, 1.0, -g],
+        [g, 0.0, -1.0],
+        [g, 0.0, 1.0],
+        [-g, 0.0, -1.0],
+        [-g, 0.0, 1.0],
+    ]
+    .iter()
+    .map(|a| DVec3::from_array(*a).normalize())
+    .collect();
+    let mut tris: Vec<[u32; 3]> = vec![
+        [0, 11, 5],
+        [0, 5, 1],
+        [0, 1, 7],
+        [0, 7, 10],
+        [0, 10, 11],
+        [1, 5, 9],
+        [5, 11, 4],
+        [11, 10, 2],
+        [10, 7, 6],
+        [7, 1, 8],
+        [3, 9, 4],
+        [3, 4, 2],
+        [3, 2, 6],
+        [3, 6, 8],
+        [3, 8, 9],
+        [4, 9, 5],
+        [2, 4, 11],
+        [6, 2, 10],
+        [8, 6, 7],
+        [9, 8, 1],
+    ];
+    for _ in 0..level {
+        let mut mid: HashMap<(u32, u32), u32> = HashMap::new();
+        let mut next = Vec::with_capacity(tris.len() * 4);
+        let mut m = |a: u32, b: u32, pos: &mut Vec<DVec3>| -> u32 {
+            let k = (a.min(b), a.max(b));
+            *mid.entry(k).or_insert_with(|| {
+                pos.push(((pos[a as usize] + pos[b as usize]) * 0.5).normalize());
+                pos.len() as u32 - 1
+            })
+        };
+        for [a, b, c] in tris {
+            let ab = m(a, b, &mut pos);
+            let bc = m(b, c, &mut pos);
+            let ca = m(c, a, &mut pos);
+            next.extend([[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]);
+        }
+        tris = next;
+    }
+    build(pos, tris)
+}
+
+/// A torus around the z axis with radii `major > minor`, `n` segments around the axis and
+/// `m` around the tube (each at least 3). Outward oriented; every vertex has valence 6.
+pub fn torus(n: u32, m: u32, major: f64, minor: f64) -> TriMesh {
+    let (n, m) = (n.max(3), m.max(3));
+    let mut pos = Vec::with_capacity((n * m) as usize);
+    for i in 0..n {
+        let u = 2.0 * PI * i as f64 / n as f64;
+        for j in 0..m {
+            let v = 2.0 * PI * j as f64 / m as f64;
+            let r = major + minor * v.cos();
+            pos.push(DVec3::new(r * u.cos(), r * u.sin(), minor * v.sin()));
+        }
+    }
+    let id = |i: u32, j: u32| (i % n) * m + (j % m);
+    let mut tris = Vec::with_capacity((2 * n * m) as usize);
+    for i in 0..n {
+        for j in 0..m {
+            let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+            tris.push([a, b, c]);
+            tris.push([a, c, d]);
+        }
+    }
+    build(pos, tris)
+}
+
+/// A regular triangulated grid of `nx × ny` squares in the xy-plane over `[0, nx] × [0, ny]`,
+/// each square split along its diagonal (all interior vertices have valence 6), normals +z.
+pub fn grid(nx: u32, ny: u32) -> TriMesh {
+    let (nx, ny) = (nx.max(1), ny.max(1));
+    let mut pos = Vec::new();
+    for j in 0..=ny {
+        for i in 0..=nx {
+            pos.push(DVec3::new(i as f64, j as f64, 0.0));
+        }
+    }
+    let id = |i: u32, j: u32| j * (nx + 1) + i;
+    let mut tris = Vec::new();
+    for j in 0..ny {
+        for i in 0..nx {
+            tris.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+            tris.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+        }
+    }
+    build(pos, tris)
+}

@@ -1,0 +1,666 @@
+//! Adjacency of a polygon or triangle mesh, stored as a corner table with an undirected edge
+//! list.
+//!
+//! Every face corner `c` is also the half-edge from `c`'s vertex to the next corner's vertex in
+//! the same face. Undirected edges are numbered in lexicographic order of their (smaller,
+//! larger) endpoint pair, so edge ids are deterministic. Non-manifold input is representable:
+//! an edge may carry any number of half-edges and a vertex any number of fans; the queries
+//! report those situations instead of failing.
+
+use crate::MeshError;
+
+/// Marker for "no element".
+pub const NONE: u32 = u32::MAX;
+
+/// One fan of faces around a vertex, in cyclic order.
+///
+/// Face `faces[i]` lies between `neighbors[i]` and `neighbors[(i + 1) % n]`. For an open fan
+/// (the vertex lies on the boundary) there is one more neighbour than faces and the walk goes
+/// from one boundary edge to the other; for a closed fan the counts are equal. The order is
+/// counter-clockwise seen from the side the first face's normal points to.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Fan {
+    /// Neighbouring vertices in cyclic order.
+    pub neighbors: Vec<u32>,
+    /// Faces in cyclic order.
+    pub faces: Vec<u32>,
+    /// True when the fan closes (an interior vertex).
+    pub closed: bool,
+}
+
+/// A connected component of faces (faces are connected when they share an edge).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Component {
+    /// Faces of the component, ascending.
+    pub faces: Vec<u32>,
+    /// Number of vertices used by the component.
+    pub vertex_count: usize,
+    /// Number of edges of the component.
+    pub edge_count: usize,
+    /// Number of boundary edges (edges with exactly one face).
+    pub boundary_edge_count: usize,
+    /// Number of boundary loops.
+    pub boundary_loop_count: usize,
+    /// Euler characteristic V - E + F.
+    pub euler_characteristic: i64,
+    /// True when every edge has at most two faces and every vertex a single fan.
+    pub manifold: bool,
+    /// True when all faces can be oriented consistently (always false when not manifold).
+    pub orientable: bool,
+    /// True when every interior edge is traversed in opposite directions by its two faces.
+    pub consistently_oriented: bool,
+    /// Genus of an orientable manifold component: `(2 - χ - b) / 2`; `None` when the component
+    /// is not an orientable manifold (the formula would not mean anything).
+    pub genus: Option<u32>,
+}
+
+/// Corner-table adjacency of a mesh with polygonal faces.
+#[derive(Clone, Debug)]
+pub struct Topology {
+    vertex_count: usize,
+    face_offsets: Vec<u32>,
+    corners: Vec<u32>,
+    corner_face: Vec<u32>,
+    corner_edge: Vec<u32>,
+    edges: Vec<[u32; 2]>,
+    edge_offsets: Vec<u32>,
+    edge_corners: Vec<u32>,
+    vertex_offsets: Vec<u32>,
+    vertex_corners: Vec<u32>,
+    vertex_edge_offsets: Vec<u32>,
+    vertex_edges: Vec<u32>,
+}
+
+fn csr(count: usize, items: impl Iterator<Item = (u32, u32)> + Clone) -> (Vec<u32>, Vec<u32>) {
+    let mut offsets = vec![0u32; count + 1];
+    for (k, _) in items.clone() {
+        offsets[k as usize + 1] += 1;
+    }
+    for i in 0..count {
+        offsets[i + 1] += offsets[i];
+    }
+    let mut fill = offsets.clone();
+    let mut out = vec![0u32; offsets[count] as usize];
+    for (k, v) in items {
+        out[fill[k as usize] as usize] = v;
+        fill[k as usize] += 1;
+    }
+    (offsets, out)
+}
+
+impl Topology {
+    /// Builds the adjacency of faces given in compressed form: face `f` has the corners
+    /// `corners[offsets[f]..offsets[f + 1]]`.
+    ///
+    /// # Errors
+    /// [`MeshError::IndexOutOfRange`] for a corner outside `0..vertex_count`,
+    /// [`MeshError::TooFewCorners`] for a face with fewer than three corners, and
+    /// [`MeshError::RepeatedVertex`] for a face using a vertex twice; the error names the face.
+    pub fn new(
+        vertex_count: usize,
+        offsets: &[u32],
+        corners: &[u32],
+    ) -> Result<Topology, MeshError> {
+        if corners.len() >= NONE as usize || vertex_count >= NONE as usize {
+            return Err(MeshError::TooLarge(corners.len().max(vertex_count)));
+        }
+        let face_count = offsets.len().saturating_sub(1);
+        let mut face_offsets = Vec::with_capacity(face_count + 1);
+        face_offsets.push(0u32);
+        let mut corner_face = Vec::with_capacity(corners.len());
+        let mut cs = Vec::with_capacity(corners.len());
+        for f in 0..face_count {
+            let (s, e) = (offsets[f] as usize, offsets[f + 1] as usize);
+            if e < s || e > corners.len() {
+                return Err(MeshError::LengthMismatch {
+                    what: "face offsets",
+                    expected: corners.len(),
+                    found: e,
+                });
+            }
+            let face = &corners[s..e];
+            if face.len() < 3 {
+                return Err(MeshError::TooFewCorners {
+                    face: f,
+                    corners: face.len(),
+                });
+            }
+            for (i, &v) in face.iter().enumerate() {
+                if v as usize >= vertex_count {
+                    return Err(MeshError::IndexOutOfRange {
+                        face: f,
+                        corner: i,
+                        index: v,
+                        vertex_count,
+                    });
+                }
+                if face[..i].contains(&v) {
+                    let mut c = [face[0], face[1], face[2]];
+                    if face.len() > 3 {
+                        c = [face[0], face[1], v];
+                    }
+                    return Err(MeshError::RepeatedVertex {
+                        face: f,
+                        corners: c,
+                    });
+                }
+            }
+            cs.extend_from_slice(face);
+            corner_face.extend(std::iter::repeat_n(f as u32, face.len()));
+            face_offsets.push(cs.len() as u32);
+        }
+        let mut t = Topology {
+            vertex_count,
+            face_offsets,
+            corners: cs,
+            corner_face,
+            corner_edge: Vec::new(),
+            edges: Vec::new(),
+            edge_offsets: Vec::new(),
+            edge_corners: Vec::new(),
+            vertex_offsets: Vec::new(),
+            vertex_corners: Vec::new(),
+            vertex_edge_offsets: Vec::new(),
+            vertex_edges: Vec::new(),
+        };
+        t.build_edges();
+        Ok(t)
+    }
+
+    /// Builds the adjacency of a triangle list (see [`Topology::new`] for the errors).
+    pub fn from_triangles(
+        vertex_count: usize,
+        triangles: &[[u32; 3]],
+    ) -> Result<Topology, MeshError> {
+        let offsets: Vec<u32> = (0..=triangles.len() as u32).map(|i| 3 * i).collect();
+        let corners: Vec<u32> = triangles.iter().flatten().copied().collect();
+        Topology::new(vertex_count, &offsets, &corners)
+    }
+
+    fn build_edges(&mut self) {
+        let n = self.corners.len();
+        let mut keys: Vec<(u64, u32)> = (0..n)
+            .map(|c| {
+                let a = self.corners[c];
+                let b = self.corners[self.next(c as u32) as usize];
+                let (lo, hi) = if a < b { (a, b) } else { (b, a) };
+                (((lo as u64) << 32) | hi as u64, c as u32)
+            })
+            .collect();
+        keys.sort_unstable();
+        self.corner_edge = vec![NONE; n];
+        self.edge_offsets = Vec::with_capacity(n / 2 + 1);
+        self.edge_offsets.push(0);
+        self.edge_corners = Vec::with_capacity(n);
+        let mut i = 0;
+        while i < keys.len() {
+            let key = keys[i].0;
+            let e = self.edges.len() as u32;
+            self.edges.push([(key >> 32) as u32, key as u32]);
+            while i < keys.len() && keys[i].0 == key {
+                self.corner_edge[keys[i].1 as usize] = e;
+                self.edge_corners.push(keys[i].1);
+                i += 1;
+            }
+            self.edge_offsets.push(self.edge_corners.len() as u32);
+        }
+        let corners = &self.corners;
+        let (vo, vc) = csr(
+            self.vertex_count,
+            (0..n as u32).map(|c| (corners[c as usize], c)),
+        );
+        self.vertex_offsets = vo;
+        self.vertex_corners = vc;
+        let edges = &self.edges;
+        let (eo, ev) = csr(
+            self.vertex_count,
+            (0..edges.len() as u32)
+                .flat_map(|e| [(edges[e as usize][0], e), (edges[e as usize][1], e)]),
+        );
+        self.vertex_edge_offsets = eo;
+        self.vertex_edges = ev;
+    }
+
+    /// Number of vertices (including unused ones).
+    pub fn vertex_count(&self) -> usize {
+        self.vertex_count
+    }
+    /// Number of faces.
+    pub fn face_count(&self) -> usize {
+        self.face_offsets.len() - 1
+    }
+    /// Number of undirected edges.
+    pub fn edge_count(&self) -> usize {
+        self.edges.len()
+    }
+    /// Number of corners (= half-edges).
+    pub fn corner_count(&self) -> usize {
+        self.corners.len()
+    }
+    /// The vertices of face `f` in order.
+    pub fn face(&self, f: usize) -> &[u32] {
+        &self.corners[self.face_offsets[f] as usize..self.face_offsets[f + 1] as usize]
+    }
+    /// The corner ids of face `f`.
+    pub fn face_corners(&self, f: usize) -> std::ops::Range<u32> {
+        self.face_offsets[f]..self.face_offsets[f + 1]
+    }
+    /// The vertex at corner `c`.
+    pub fn corner_vertex(&self, c: u32) -> u32 {
+        self.corners[c as usize]
+    }
+    /// The face of corner `c`.
+    pub fn corner_face(&self, c: u32) -> u32 {
+        self.corner_face[c as usize]
+    }
+    /// The next corner of the same face (the half-edge from `c` ends there).
+    pub fn next(&self, c: u32) -> u32 {
+        let f = self.corner_face[c as usize] as usize;
+        if c + 1 < self.face_offsets[f + 1] {
+            c + 1
+        } else {
+            self.face_offsets[f]
+        }
+    }
+    /// The previous corner of the same face.
+    pub fn prev(&self, c: u32) -> u32 {
+        let f = self.corner_face[c as usize] as usize;
+        if c > self.face_offsets[f] {
+            c - 1
+        } else {
+            self.face_offsets[f + 1] - 1
+        }
+    }
+    /// The undirected edge of the half-edge leaving corner `c`.
+    pub fn corner_edge(&self, c: u32) -> u32 {
+        self.corner_edge[c as usize]
+    }
+    /// The endpoints of edge `e`, smaller id first.
+    pub fn edge(&self, e: u32) -> [u32; 2] {
+        self.edges[e as usize]
+    }
+    /// All edges as endpoint pairs (smaller id first), indexed by edge id.
+    pub fn edges(&self) -> &[[u32; 2]] {
+        &self.edges
+    }
+    /// The half-edges (corners) lying on edge `e`: one per incident face side.
+    pub fn edge_half_edges(&self, e: u32) -> &[u32] {
+        &self.edge_corners
+            [self.edge_offsets[e as usize] as usize..self.edge_offsets[e as usize + 1] as usize]
+    }
+    /// The faces incident to edge `e` (a face appears once per side it contributes).
+    pub fn edge_faces(&self, e: u32) -> impl ExactSizeIterator<Item = u32> + '_ {
+        self.edge_half_edges(e)
+            .iter()
+            .map(|&c| self.corner_face[c as usize])
+    }
+    /// Number of face sides on edge `e` (1: boundary, 2: interior manifold, >2: non-manifold).
+    pub fn edge_face_count(&self, e: u32) -> usize {
+        (self.edge_offsets[e as usize + 1] - self.edge_offsets[e as usize]) as usize
+    }
+    /// True when edge `e` has exactly one face.
+    pub fn is_boundary_edge(&self, e: u32) -> bool {
+        self.edge_face_count(e) == 1
+    }
+    /// The edge joining `a` and `b`, if any.
+    pub fn find_edge(&self, a: u32, b: u32) -> Option<u32> {
+        if a as usize >= self.vertex_count || b as usize >= self.vertex_count {
+            return None;
+        }
+        let key = if a < b { [a, b] } else { [b, a] };
+        self.vertex_edges(a)
+            .iter()
+            .copied()
+            .find(|&e| self.edges[e as usize] == key)
+    }
+    /// The corners at vertex `v` (one per incident face side).
+    pub fn vertex_corners(&self, v: u32) -> &[u32] {
+        &self.vertex_corners
+            [self.vertex_offsets[v as usize] as usize..self.vertex_offsets[v as usize + 1] as usize]
+    }
+    /// The faces incident to vertex `v` (unordered; see [`Topology::fans`] for cyclic order).
+    pub fn vertex_faces(&self, v: u32) -> impl ExactSizeIterator<Item = u32> + '_ {
+        self.vertex_corners(v)
+            .iter()
+            .map(|&c| self.corner_face[c as usize])
+    }
+    /// The edges incident to vertex `v` (unordered).
+    pub fn vertex_edges(&self, v: u32) -> &[u32] {
+        &self.vertex_edges[self.vertex_edge_offsets[v as usize] as usize
+            ..self.vertex_edge_offsets[v as usize + 1] as usize]
+    }
+    /// Number of edges at vertex `v`.
+    pub fn valence(&self, v: u32) -> usize {
+        self.vertex_edges(v).len()
+    }
+    /// The other endpoint of edge `e` seen from `v`.
+    pub fn opposite_vertex(&self, e: u32, v: u32) -> u32 {
+        let [a, b] = self.edges[e as usize];
+        if a == v { b } else { a }
+    }
+    /// True when vertex `v` is used by at least one face.
+    pub fn is_used(&self, v: u32) -> bool {
+        !self.vertex_corners(v).is_empty()
+    }
+    /// True when `v` lies on a boundary edge.
+    pub fn is_boundary_vertex(&self, v: u32) -> bool {
+        self.vertex_edges(v)
+            .iter()
+            .any(|&e| self.is_boundary_edge(e))
+    }
+
+    /// The other half-edge of a manifold edge (exactly two face sides), else [`NONE`].
+    pub fn twin(&self, c: u32) -> u32 {
+        let hs = self.edge_half_edges(self.corner_edge[c as usize]);
+        match hs {
+            [a, b] if *a == c => *b,
+            [a, b] if *b == c => *a,
+            _ => NONE,
+        }
+    }
+
+    /// The corner of the face of half-edge `h` that sits at vertex `v` (an endpoint of `h`).
+    fn corner_at(&self, h: u32, v: u32) -> u32 {
+        if self.corners[h as usize] == v {
+            h
+        } else {
+            self.next(h)
+        }
+    }
+
+    /// The two edges at corner `c`'s vertex within its face: (incoming, outgoing).
+    fn corner_edges(&self, c: u32) -> (u32, u32) {
+        (
+            self.corner_edge[self.prev(c) as usize],
+            self.corner_edge[c as usize],
+        )
+    }
+
+    /// Walks from corner `c` leaving through edge `exit`; returns (faces, neighbours) visited
+    /// after `c` and whether the walk came back to `stop`.
+    fn walk(
+        &self,
+        v: u32,
+        c0: u32,
+        exit0: u32,
+        stop: u32,
+        seen: &mut Vec<u32>,
+    ) -> (Vec<u32>, Vec<u32>, bool) {
+        let (mut faces, mut nbrs) = (Vec::new(), Vec::new());
+        let (mut exit, mut guard) = (exit0, 0usize);
+        let _ = c0;
+        let limit = self.vertex_corners(v).len() + 1;
+        loop {
+            guard += 1;
+            if guard > limit {
+                return (faces, nbrs, false);
+            }
+            let hs = self.edge_half_edges(exit);
+            if hs.len() != 2 {
+                return (faces, nbrs, false);
+            }
+            // The half-edge on `exit` that does not belong to the corner we leave.
+            let from = *seen.last().unwrap_or(&c0);
+            let h = if self.corner_at(hs[0], v) == from {
+                hs[1]
+            } else {
+                hs[0]
+            };
+            let c = self.corner_at(h, v);
+            if c == stop {
+                return (faces, nbrs, true);
+            }
+            if seen.contains(&c) {
+                return (faces, nbrs, false);
+            }
+            seen.push(c);
+            let (ein, eout) = self.corner_edges(c);
+            exit = if ein == exit { eout } else { ein };
+            faces.push(self.corner_face[c as usize]);
+            nbrs.push(self.opposite_vertex(exit, v));
+        }
+    }
+
+    /// The fans of faces around vertex `v`: usually one; none for an unused vertex, several
+    /// for a non-manifold vertex. Faces are joined into a fan across edges that have exactly
+    /// two faces, so a vertex on a non-manifold edge has more than one fan.
+    pub fn fans(&self, v: u32) -> Vec<Fan> {
+        let corners = self.vertex_corners(v);
+        let mut done: Vec<u32> = Vec::new();
+        let mut out = Vec::new();
+        for &c0 in corners {
+            if done.contains(&c0) {
+                continue;
+            }
+            let (ein, eout) = self.corner_edges(c0);
+            let first = self.opposite_vertex(eout, v);
+            let second = self.opposite_vertex(ein, v);
+            let mut seen = vec![c0];
+            let (ff, fn_, closed) = self.walk(v, c0, ein, c0, &mut seen);
+            let fan = if closed {
+                let mut neighbors = vec![first, second];
+                neighbors.extend_from_slice(&fn_);
+                neighbors.pop();
+                let mut faces = vec![self.corner_face[c0 as usize]];
+                faces.extend(ff);
+                Fan {
+                    neighbors,
+                    faces,
+                    closed: true,
+                }
+            } else {
+                let mut seen_b = vec![c0];
+                let (bf, bn, _) = self.walk(v, c0, eout, c0, &mut seen_b);
+                seen.extend_from_slice(&seen_b[1..]);
+                let mut neighbors: Vec<u32> = bn.into_iter().rev().collect();
+                neighbors.push(first);
+                neighbors.push(second);
+                neighbors.extend(fn_);
+                let mut faces: Vec<u32> = bf.into_iter().rev().collect();
+                faces.push(self.corner_face[c0 as usize]);
+                faces.extend(ff);
+                Fan {
+                    neighbors,
+                    faces,
+                    closed: false,
+                }
+            };
+            done.extend_from_slice(&seen);
+            out.push(fan);
+        }
+        out
+    }
+
+    /// The one-ring of a manifold vertex in cyclic order, or `None` when `v` is unused or
+    /// has more than one fan.
+    pub fn one_ring(&self, v: u32) -> Option<Fan> {
+        let mut fans = self.fans(v);
+        if fans.len() == 1 { fans.pop() } else { None }
+    }
+
+    /// Boundary loops as vertex sequences, following the half-edge direction of the first
+    /// edge of each loop. A loop passing a vertex twice (a non-manifold boundary vertex) is
+    /// split where the walk continues along any unused boundary edge at that vertex.
+    pub fn boundary_loops(&self) -> Vec<Vec<u32>> {
+        let bedges: Vec<u32> = (0..self.edges.len() as u32)
+            .filter(|&e| self.is_boundary_edge(e))
+            .collect();
+        let mut used = vec![false; self.edges.len()];
+        let mut loops = Vec::new();
+        for &e0 in &bedges {
+            if used[e0 as usize] {
+                continue;
+            }
+            used[e0 as usize] = true;
+            let h = self.edge_half_edges(e0)[0];
+            let start = self.corners[h as usize];
+            let mut cur = self.corners[self.next(h) as usize];
+            let mut lp = vec![start];
+            while cur != start {
+                lp.push(cur);
+                let nxt = self
+                    .vertex_edges(cur)
+                    .iter()
+                    .copied()
+                    .find(|&e| !used[e as usize] && self.is_boundary_edge(e));
+                match nxt {
+                    Some(e) => {
+                        used[e as usize] = true;
+                        cur = self.opposite_vertex(e, cur);
+                    }
+                    None => break,
+                }
+            }
+            loops.push(lp);
+        }
+        loops
+    }
+
+    /// Face components (faces sharing an edge are connected) with their Euler characteristic,
+    /// boundary, manifoldness, orientability and genus. Unused vertices belong to no component.
+    pub fn components(&self) -> Vec<Component> {
+        let (comp, _flip, comps, orientable) = self.propagate_orientation();
+        self.summarise(comp, comps, orientable)
+    }
+
+    /// A consistent orientation per component: `flips[f]` says whether face `f` must be
+    /// reversed so that every interior manifold edge is traversed in opposite directions
+    /// (relative to the first face of its component, which is never flipped). Also returns the
+    /// component id of each face and whether each component is orientable; in a
+    /// non-orientable component the flips are consistent along a spanning tree only.
+    pub fn orientation_flips(&self) -> (Vec<bool>, Vec<u32>, Vec<bool>) {
+        let (comp, flip, _, orientable) = self.propagate_orientation();
+        (flip, comp, orientable)
+    }
+
+    #[allow(clippy::type_complexity)]
+    fn propagate_orientation(&self) -> (Vec<u32>, Vec<bool>, Vec<Vec<u32>>, Vec<bool>) {
+        let nf = self.face_count();
+        let mut comp = vec![NONE; nf];
+        let mut flip = vec![false; nf];
+        let mut comps: Vec<Vec<u32>> = Vec::new();
+        let mut orientable = Vec::new();
+        for s in 0..nf {
+            if comp[s] != NONE {
+                continue;
+            }
+            let id = comps.len() as u32;
+            comp[s] = id;
+            let mut stack = vec![s as u32];
+            let mut faces = vec![];
+            let mut ok = true;
+            while let Some(f) = stack.pop() {
+                faces.push(f);
+                for c in self.face_corners(f as usize) {
+                    let e = self.corner_edge[c as usize];
+                    let hs = self.edge_half_edges(e);
+                    for &h in hs {
+                        let g = self.corner_face[h as usize];
+                        if h == c {
+                            continue;
+                        }
+                        // Same direction on a shared edge means one of the two must flip.
+                        let same = self.corners[h as usize] == self.corners[c as usize];
+                        let want = flip[f as usize] ^ same;
+                        if comp[g as usize] == NONE {
+                            comp[g as usize] = id;
+                            flip[g as usize] = want;
+                            stack.push(g);
+                        } else if hs.len() == 2 && flip[g as usize] != want {
+                            ok = false;
+                        }
+                    }
+                }
+            }
+            faces.sort_unstable();
+            comps.push(faces);
+            orientable.push(ok);
+        }
+        (comp, flip, comps, orientable)
+    }
+
+    fn summarise(
+        &self,
+        comp: Vec<u32>,
+        comps: Vec<Vec<u32>>,
+        orientable: Vec<bool>,
+    ) -> Vec<Component> {
+        let mut vmark = vec![NONE; self.vertex_count];
+        let loops = self.boundary_loops();
+        let mut loop_count = vec![0usize; comps.len()];
+        for lp in &loops {
+            if let (Some(&a), Some(&b)) = (lp.first(), lp.get(1))
+                && let Some(e) = self.find_edge(a, b)
+            {
+                let f = self.edge_half_edges(e)[0];
+                loop_count[comp[self.corner_face[f as usize] as usize] as usize] += 1;
+            }
+        }
+        comps
+            .into_iter()
+            .enumerate()
+            .map(|(i, faces)| {
+                let mut vc = 0usize;
+                let (mut ec, mut bc) = (0usize, 0usize);
+                let mut manifold = true;
+                let mut consistent = true;
+                for &f in &faces {
+                    for c in self.face_corners(f as usize) {
+                        let v = self.corners[c as usize];
+                        if vmark[v as usize] != i as u32 {
+                            vmark[v as usize] = i as u32;
+                            vc += 1;
+                            if self.fans(v).len() > 1 {
+                                manifold = false;
+                            }
+                        }
+                        let e = self.corner_edge[c as usize];
+                        let hs = self.edge_half_edges(e);
+                        // Count each edge once: at its first half-edge.
+                        if hs[0] == c {
+                            ec += 1;
+                            match hs.len() {
+                                1 => bc += 1,
+                                2 => {
+                                    if self.corners[hs[0] as usize] == self.corners[hs[1] as usize]
+                                    {
+                                        consistent = false;
+                                    }
+                                }
+                                _ => manifold = false,
+                            }
+                        }
+                    }
+                }
+                let chi = vc as i64 - ec as i64 + faces.len() as i64;
+                let b = loop_count[i];
+                let orient = manifold && orientable[i];
+                let g2 = 2 - chi - b as i64;
+                let genus = (orient && g2 >= 0 && g2 % 2 == 0).then_some((g2 / 2) as u32);
+                Component {
+                    faces,
+                    vertex_count: vc,
+                    edge_count: ec,
+                    boundary_edge_count: bc,
+                    boundary_loop_count: b,
+                    euler_characteristic: chi,
+                    manifold,
+                    orientable: orient,
+                    consistently_oriented: consistent,
+                    genus,
+                }
+            })
+            .collect()
+    }
+
+    /// For each face, the id of its component in [`Topology::components`] order.
+    pub fn face_components(&self) -> Vec<u32> {
+        let mut out = vec![NONE; self.face_count()];
+        for (i, c) in self.components().iter().enumerate() {
+            for &f in &c.faces {
+                out[f as usize] = i as u32;
+            }
+        }
+        out
+    }
+}
