@@ -26,16 +26,53 @@ pub struct EdgeCubic {
     overlap_mismatch: f64,
 }
 
-/// Where the edge `(p_i, p_j)` sits in a face tetrahedron: the local indices of `p_i`, `p_j`
-/// and of the third face vertex.
-fn locate(face: &FaceCubic, pi: DVec3, pj: DVec3) -> Result<(usize, usize, usize), ApatchError> {
-    let v = face.tetrahedron().vertices();
-    let find = |p: DVec3| (0..3).find(|&a| v[a] == p);
-    match (find(pi), find(pj)) {
-        (Some(a), Some(b)) if a != b => Ok((a, b, 3 - a - b)),
-        _ => Err(ApatchError::Inconsistent(
-            "the face tetrahedron does not contain the edge".into(),
-        )),
+/// What an edge cubic needs from the face on one side of its edge `(p_i, p_j)`: the
+/// tetrahedron with the face `[p_i p_j apex]` (apex last) and the polynomial that agrees with F
+/// to first order on that face. A convex face gives its face tetrahedron and the polynomial with
+/// the rational term's value on that edge folded in ([`FaceCubic::effective_polynomial`]); a
+/// split face gives the sub-tetrahedron that carries the edge.
+#[derive(Clone, Debug)]
+pub struct EdgeNeighbour {
+    /// Tetrahedron containing `p_i`, `p_j` and the apex (as vertex 3).
+    pub tet: Tetrahedron,
+    /// Polynomial valid to first order on the face `[p_i p_j apex]`.
+    pub poly: BbPoly<f64, 4>,
+}
+
+impl FaceCubic {
+    /// The [`EdgeNeighbour`] of this face for its edge `(pi, pj)`.
+    pub fn edge_neighbour(&self, pi: DVec3, pj: DVec3) -> Result<EdgeNeighbour, ApatchError> {
+        let v = self.tetrahedron().vertices();
+        let find = |p: DVec3| (0..3).find(|&a| v[a] == p);
+        match (find(pi), find(pj)) {
+            (Some(a), Some(b)) if a != b => Ok(EdgeNeighbour {
+                tet: *self.tetrahedron(),
+                poly: self.effective_polynomial(3 - a - b),
+            }),
+            _ => Err(ApatchError::Inconsistent(
+                "the face tetrahedron does not contain the edge".into(),
+            )),
+        }
+    }
+}
+
+impl crate::SplitSide {
+    /// The [`EdgeNeighbour`] of this side for the face edge `(pi, pj)`: the sub-tetrahedron
+    /// `[p_b, p_c, centroid, apex]` that carries it.
+    pub fn edge_neighbour(&self, pi: DVec3, pj: DVec3) -> Result<EdgeNeighbour, ApatchError> {
+        for a in 0..3 {
+            let t = &self.tets[a];
+            let has = |p: DVec3| t.vertex(0) == p || t.vertex(1) == p;
+            if has(pi) && has(pj) && pi != pj {
+                return Ok(EdgeNeighbour {
+                    tet: *t,
+                    poly: self.polys[a].clone(),
+                });
+            }
+        }
+        Err(ApatchError::Inconsistent(
+            "no sub-tetrahedron of the split face carries the edge".into(),
+        ))
     }
 }
 
@@ -53,37 +90,35 @@ impl EdgeCubic {
     /// Builds the edge cubic for the mesh edge `(p_i, p_j)` from the face cubics on its two
     /// sides: `face_k` (apex `u_k`) and `face_l` (apex `u_l`). The free parameters of both
     /// faces must already be set (the edge cubic depends on them linearly).
-    pub fn new(
+    pub fn new(pi: DVec3, pj: DVec3, face_k: &FaceCubic, face_l: &FaceCubic) -> Result<Self, ApatchError> {
+        Self::from_neighbours(pi, pj, &face_k.edge_neighbour(pi, pj)?, &face_l.edge_neighbour(pi, pj)?)
+    }
+
+    /// Builds the edge cubic from the two sides' [`EdgeNeighbour`]s (convex or split faces).
+    pub fn from_neighbours(
         pi: DVec3,
         pj: DVec3,
-        face_k: &FaceCubic,
-        face_l: &FaceCubic,
+        k: &EdgeNeighbour,
+        l: &EdgeNeighbour,
     ) -> Result<Self, ApatchError> {
-        let uk = face_k.tetrahedron().vertex(3);
-        let ul = face_l.tetrahedron().vertex(3);
+        let uk = k.tet.vertex(3);
+        let ul = l.tet.vertex(3);
         let tet = Tetrahedron::new([ul, pi, pj, uk])?;
-        let side = |face: &FaceCubic| -> Result<(BbPoly<f64, 4>, [[f64; 4]; 4]), ApatchError> {
-            let (a, b, c) = locate(face, pi, pj)?;
-            let t = face.tetrahedron();
-            let unit = |i: usize| {
-                let mut e = [0.0; 4];
-                e[i] = 1.0;
-                e
+        let side = |n: &EdgeNeighbour| -> (BbPoly<f64, 4>, [[f64; 4]; 4]) {
+            let t = &n.tet;
+            // Exact unit vectors for the side's own vertices (barycentric() would round).
+            let bary = |p: DVec3| match (0..4).find(|&i| t.vertex(i) == p) {
+                Some(i) => {
+                    let mut e = [0.0; 4];
+                    e[i] = 1.0;
+                    e
+                }
+                None => t.barycentric(p),
             };
-            let verts = [t.barycentric(ul), unit(a), unit(b), t.barycentric(uk)];
-            // Exact unit vectors where the vertex is the side's own (barycentric() would
-            // round): u_k on the k side, u_l on the l side.
-            let mut verts = verts;
-            if t.vertex(3) == uk {
-                verts[3] = unit(3);
-            }
-            if t.vertex(3) == ul {
-                verts[0] = unit(3);
-            }
-            Ok((face.effective_polynomial(c), verts))
+            (n.poly.clone(), [bary(ul), bary(pi), bary(pj), bary(uk)])
         };
-        let (pk, vk) = side(face_k)?;
-        let (pl, vl) = side(face_l)?;
+        let (pk, vk) = side(k);
+        let (pl, vl) = side(l);
         let mut poly = BbPoly::<f64, 4>::zero(3);
         let mut mismatch: f64 = 0.0;
         let scale = pk

@@ -5,6 +5,9 @@ use thiserror::Error;
 /// Everything that can go wrong while building or evaluating A-patches.
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum ApatchError {
+    /// The simplicial hull could not be built (§3).
+    #[error(transparent)]
+    Hull(#[from] algesurf_hull::HullError),
     /// An error of the BB algebra (degenerate tetrahedron, ...).
     #[error(transparent)]
     Bb(#[from] algesurf_bb::BbError),

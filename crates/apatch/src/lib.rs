@@ -11,8 +11,15 @@ pub mod error;
 pub mod face;
 pub mod quadric;
 pub mod rational;
+pub mod sheet;
+pub mod split;
+pub mod surface;
+pub mod tessellate;
 
-pub use edge::EdgeCubic;
+pub use edge::{EdgeCubic, EdgeNeighbour};
 pub use error::ApatchError;
 pub use face::{FaceCubic, VertexData};
 pub use quadric::Quadric;
+pub use split::{SplitFace, SplitSide};
+pub use surface::{ApatchSurface, FaceFunction, FreeParameter, FreeParameterRule, SurfaceOptions};
+pub use tessellate::{PatchKind, Tessellation};

@@ -38,9 +38,12 @@
 //! ```
 
 pub mod cubic;
+mod fastmath;
 pub mod subdivision;
 
-pub use cubic::{Branch, CardanoCubic, ShootingRoot, cubic_roots, shooting_root};
+pub use cubic::{
+    Branch, CardanoCubic, ShootingRoot, cubic_roots, cubic_roots_closed_form, shooting_root,
+};
 pub use subdivision::{find_roots, find_roots_of, find_roots_with};
 
 use crate::BbError;

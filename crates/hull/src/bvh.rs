@@ -96,7 +96,9 @@ impl Bvh {
                 match node.kind {
                     Kind::Leaf(s, e) => {
                         for &j in &self.order[s..e] {
-                            if j as usize > i && overlaps(bx, self.boxes[j as usize].0, self.boxes[j as usize].1) {
+                            if j as usize > i
+                                && overlaps(bx, self.boxes[j as usize].0, self.boxes[j as usize].1)
+                            {
                                 out.push((i as u32, j));
                             }
                         }

@@ -102,9 +102,15 @@ pub fn classify_face(edges: [Convexity; 3]) -> Convexity {
     use Convexity::*;
     if edges.iter().all(|&e| e == ZeroConvex) {
         ZeroConvex
-    } else if edges.iter().all(|&e| matches!(e, PositiveConvex | ZeroConvex)) {
+    } else if edges
+        .iter()
+        .all(|&e| matches!(e, PositiveConvex | ZeroConvex))
+    {
         PositiveConvex
-    } else if edges.iter().all(|&e| matches!(e, NegativeConvex | ZeroConvex)) {
+    } else if edges
+        .iter()
+        .all(|&e| matches!(e, NegativeConvex | ZeroConvex))
+    {
         NegativeConvex
     } else {
         Nonconvex
@@ -196,7 +202,8 @@ pub fn apex_parameters(
         let (l, m) = pairs[e];
         let al = alpha(c, p[l], p[m]);
         let am = 1.0 - al; // = alpha(c, p[m], p[l])
-        let num = (p[l] - c + al * (p[l] - p[m])).dot(n[l]) + (p[m] - c + am * (p[m] - p[l])).dot(n[m]);
+        let num =
+            (p[l] - c + al * (p[l] - p[m])).dot(n[l]) + (p[m] - c + am * (p[m] - p[l])).dot(n[m]);
         num / (cos[l] + cos[m])
     });
     let mut t_max: f64 = 0.0;
@@ -212,4 +219,131 @@ pub fn apex_parameters(
         t_max,
         t_min,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn v(x: f64, y: f64, z: f64) -> DVec3 {
+        DVec3::new(x, y, z)
+    }
+
+    #[test]
+    fn alpha_is_two_minus_three_s() {
+        let (a, b) = (v(0.3, -1.0, 2.0), v(2.5, 0.7, 1.0));
+        for s in [-0.5, 0.0, 0.25, 0.5, 1.0, 1.7] {
+            let off = (b - a).normalize().any_orthonormal_vector() * 0.8;
+            let w = a + s * (b - a) + off;
+            assert!((alpha(w, a, b) - (2.0 - 3.0 * s)).abs() < 1e-12);
+            assert!((alpha(w, a, b) + alpha(w, b, a) - 1.0).abs() < 1e-12);
+        }
+    }
+
+    /// The mid-edge coefficient is the one that makes the cubic interpolate the averaged normal
+    /// derivative at the edge midpoint: check against a direct derivative of the BB cubic on
+    /// the triangle [w a b] with F(a) = F(b) = 0, ∇F(a) = n_a, ∇F(b) = n_b.
+    #[test]
+    fn mid_edge_coefficient_interpolates_the_normal_derivative() {
+        let (w, a, b) = (v(0.2, 1.5, 0.3), v(-1.0, 0.0, 0.1), v(1.2, 0.1, -0.2));
+        let (na, nb) = (v(0.1, 0.3, 1.0), v(-0.2, 0.4, 0.9));
+        let m = mid_edge_coefficient(w, a, b, na, nb);
+        // Coefficients indexed (λ_w, λ_a, λ_b).
+        let c = |l: [usize; 3]| -> f64 {
+            match l {
+                [0, 3, 0] | [0, 0, 3] => 0.0,
+                [1, 2, 0] => (w - a).dot(na) / 3.0,
+                [1, 0, 2] => (w - b).dot(nb) / 3.0,
+                [0, 2, 1] => (b - a).dot(na) / 3.0,
+                [0, 1, 2] => (a - b).dot(nb) / 3.0,
+                [1, 1, 1] => m,
+                _ => f64::NAN,
+            }
+        };
+        // Derivative at (0, ½, ½) in the barycentric direction d: 3 Σ_{|μ|=2, μ_w=0} B_μ(½,½) Σ_k d_k c(μ+e_k).
+        let deriv = |d: [f64; 3]| {
+            let mut s = 0.0;
+            for (mu, bw) in [([0, 2, 0], 0.25), ([0, 1, 1], 0.5), ([0, 0, 2], 0.25)] {
+                for k in 0..3 {
+                    let mut l = mu;
+                    l[k] += 1;
+                    if d[k] != 0.0 {
+                        s += bw * d[k] * c(l);
+                    }
+                }
+            }
+            3.0 * s
+        };
+        // Direction in the plane, perpendicular to the edge: w − foot.
+        let sft = (w - a).dot(b - a) / (b - a).length_squared();
+        let dir = [1.0, -(1.0 - sft), -sft];
+        let target = 0.5 * (w - (a + sft * (b - a))).dot(na + nb);
+        assert!(
+            (deriv(dir) - target).abs() < 1e-12,
+            "{} vs {target}",
+            deriv(dir)
+        );
+    }
+
+    #[test]
+    fn t_lm_zeroes_the_step4_coefficient() {
+        let p = [v(-1.0, 0.0, 0.0), v(1.2, 0.1, 0.2), v(0.1, 1.4, -0.1)];
+        let n = [
+            v(-0.3, -0.2, 1.0).normalize(),
+            v(0.4, -0.1, 1.0).normalize(),
+            v(0.0, 0.5, 1.0).normalize(),
+        ];
+        let nf = (p[1] - p[0]).cross(p[2] - p[0]).normalize();
+        let c = (p[0] + p[1] + p[2]) / 3.0;
+        let ap = apex_parameters(p, n, nf, 0.1).unwrap();
+        for (e, (l, m)) in [(0, 1), (1, 2), (0, 2)].into_iter().enumerate() {
+            let u = c + ap.t_edge[e] * nf;
+            assert!(mid_edge_coefficient(u, p[l], p[m], n[l], n[m]).abs() < 1e-12);
+            let u = c + (ap.t_edge[e] + 0.1) * nf;
+            assert!(mid_edge_coefficient(u, p[l], p[m], n[l], n[m]) > 0.0);
+        }
+        for l in 0..3 {
+            let u = c + ap.t_vertex[l] * nf;
+            assert!((u - p[l]).dot(n[l]).abs() < 1e-12);
+        }
+        assert!(ap.t_max >= ap.t_vertex.iter().fold(0.0f64, |a, &b| a.max(b)) + 0.1);
+        assert!(apex_parameters(p, [n[0], n[1], -nf], nf, 0.1) == Err(2));
+    }
+
+    #[test]
+    fn classification_table() {
+        use Convexity::*;
+        let (a, b) = (v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0));
+        let up = DVec3::Z;
+        assert_eq!(classify_edge(a, b, up, up, 1e-9), ZeroConvex);
+        // Tilts of 1e-12 rad count as zero, 1e-6 do not.
+        let t = |x: f64| v(x, 0.0, 1.0).normalize();
+        assert_eq!(classify_edge(a, b, t(-1e-12), t(1e-12), 1e-9), ZeroConvex);
+        assert_eq!(classify_edge(a, b, t(-1e-6), t(1e-6), 1e-9), PositiveConvex);
+        assert_eq!(classify_edge(a, b, up, t(1e-6), 1e-9), PositiveConvex);
+        assert_eq!(classify_edge(a, b, t(1e-6), t(-1e-6), 1e-9), NegativeConvex);
+        assert_eq!(classify_edge(a, b, t(1e-6), t(1e-6), 1e-9), Nonconvex);
+        // Scale invariance of the tolerance.
+        assert_eq!(
+            classify_edge(a * 1e6, b * 1e6, t(-1e-12), t(1e-12), 1e-9),
+            ZeroConvex
+        );
+        assert_eq!(
+            classify_face([PositiveConvex, ZeroConvex, ZeroConvex]),
+            PositiveConvex
+        );
+        assert_eq!(classify_face([ZeroConvex; 3]), ZeroConvex);
+        assert_eq!(
+            classify_face([NegativeConvex, ZeroConvex, NegativeConvex]),
+            NegativeConvex
+        );
+        assert_eq!(
+            classify_face([PositiveConvex, NegativeConvex, ZeroConvex]),
+            Nonconvex
+        );
+        assert_eq!(
+            classify_face([PositiveConvex, Nonconvex, PositiveConvex]),
+            Nonconvex
+        );
+    }
 }

@@ -88,12 +88,12 @@ pub enum HullError {
         side: &'static str,
     },
     /// Hull tetrahedra still intersect after the allowed number of local refinement rounds
-    /// (§3.1). `edge` is the input edge whose neighbourhood was being refined (for tetrahedra
-    /// that share no edge, the longest edge of the first one's element); `faces` are the input
-    /// faces the two tetrahedra belong to.
+    /// (§3.1). `edge` is the input edge the intersecting pair's shared edge lies on or was
+    /// made by refining (for tetrahedra that share no edge, the longest edge of the first
+    /// one's element); `faces` are the input faces the two tetrahedra belong to.
     #[error(
         "hull tetrahedra still intersect at edge ({}, {}) (input faces {} and {}) after {rounds} \
-         rounds of local Butterfly refinement",
+         rounds of local Butterfly refinement: {reason}",
         edge[0], edge[1], faces[0], faces[1]
     )]
     UnresolvedIntersection {
@@ -103,6 +103,10 @@ pub enum HullError {
         faces: [u32; 2],
         /// Rounds of refinement done.
         rounds: usize,
+        /// Why refinement stopped: the round limit, or a refined mesh on which the hull
+        /// cannot be built (for example a face the normal of one of its input vertices no
+        /// longer points to the positive side of).
+        reason: String,
     },
     /// An option is out of its documented range.
     #[error("invalid option: {0}")]

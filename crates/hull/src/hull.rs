@@ -1,6 +1,8 @@
 //! Face tetrahedra (§3.1) and edge tetrahedra (§3.2) of one mesh, without refinement.
 
-use crate::classify::{ApexParameters, Convexity, Side, apex_parameters, classify_edge, classify_face, edge_slopes};
+use crate::classify::{
+    ApexParameters, Convexity, Side, apex_parameters, classify_edge, classify_face, edge_slopes,
+};
 use crate::{HullError, HullOptions};
 use algesurf_bb::Tetrahedron;
 use algesurf_mesh::TriMesh;
@@ -218,7 +220,8 @@ pub(crate) fn build(
             .map(|c| corners[c].distance(corners[(c + 1) % 3]))
             .fold(0.0, f64::max);
         let cross = (corners[1] - corners[0]).cross(corners[2] - corners[0]);
-        if !(cross.length() > 1e-14 * longest * longest) {
+        let area_ok = cross.length() > 1e-14 * longest * longest; // false for NaN too
+        if !area_ok {
             return Err(HullError::DegenerateFace {
                 face: face_map[f],
                 vertices: *t,
@@ -238,23 +241,25 @@ pub(crate) fn build(
             negative: None,
         };
         if convexity != Convexity::ZeroConvex {
-            let params = apex_parameters(corners, t.map(n), normal, opts.epsilon * longest).map_err(|l| {
-                HullError::NormalNotOnPositiveSide {
+            let params = apex_parameters(corners, t.map(n), normal, opts.epsilon * longest)
+                .map_err(|l| HullError::NormalNotOnPositiveSide {
                     face: face_map[f],
                     vertex: t[l],
                     cosine: normal.dot(n(t[l]).normalize()),
-                }
-            })?;
+                })?;
             let floor = opts.min_apex_height * longest;
             let make = |side: Side, tt: f64| -> Result<FaceTetrahedron, HullError> {
                 let apex = centroid + tt * normal;
-                let tetrahedron = Tetrahedron::new([corners[0], corners[1], corners[2], apex]).map_err(|source| {
-                    HullError::DegenerateTetrahedron {
-                        what: if side == Side::Positive { "positive face" } else { "negative face" },
+                let tetrahedron = Tetrahedron::new([corners[0], corners[1], corners[2], apex])
+                    .map_err(|source| HullError::DegenerateTetrahedron {
+                        what: if side == Side::Positive {
+                            "positive face"
+                        } else {
+                            "negative face"
+                        },
                         element: face_name(face_map, f),
                         source,
-                    }
-                })?;
+                    })?;
                 Ok(FaceTetrahedron {
                     side,
                     t: tt,
@@ -299,7 +304,11 @@ pub(crate) fn build(
             };
             let wk = apex(edge.face_k)?;
             let wl = apex(face_l)?;
-            let what = if side == Side::Positive { "positive edge" } else { "negative edge" };
+            let what = if side == Side::Positive {
+                "positive edge"
+            } else {
+                "negative edge"
+            };
             let degenerate = |source| HullError::DegenerateTetrahedron {
                 what,
                 element: format!("edge ({i}, {j})"),

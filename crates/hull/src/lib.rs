@@ -52,11 +52,12 @@ mod classify;
 mod error;
 mod hull;
 mod overlap;
+mod refine;
 mod simplicial;
 
 pub use classify::{
-    ApexParameters, Convexity, Side, alpha, apex_parameters, classify_edge, classify_face, edge_slopes,
-    mid_edge_coefficient,
+    ApexParameters, Convexity, Side, alpha, apex_parameters, classify_edge, classify_face,
+    edge_slopes, mid_edge_coefficient,
 };
 pub use error::HullError;
 pub use hull::{EdgeTetrahedron, FaceTetrahedron, HullEdge, HullFace};
@@ -97,10 +98,12 @@ pub struct HullOptions {
     /// (`~1e-15` for non-sliver tetrahedra) and far below any geometric overlap that matters.
     pub overlap_tolerance: f64,
     /// How many rounds of local Butterfly refinement (§3.1) to try before giving up with
-    /// [`HullError::UnresolvedIntersection`]. Each round splits one edge per intersecting pair,
-    /// so the intersecting region's edges shrink by about half per round; 6 rounds (edges down
-    /// to ~1/64) resolve what refinement can resolve, and beyond that the cause is the normals
-    /// at the input vertices (which refinement never changes). Default `6`; `0` only detects.
+    /// [`HullError::UnresolvedIntersection`]. A round bisects every face of every intersecting
+    /// pair once (longest-edge bisection with Butterfly edge points, see
+    /// [`SimplicialHull::new`]), so two rounds amount to about one local subdivision step and
+    /// the default `6` to three: faces down to about 1/64 of their area. Intersections that
+    /// survive that are caused by the normals at the input vertices (which refinement never
+    /// changes) or by a mesh that undersamples its surface badly. `0` only detects.
     pub max_refinement_rounds: usize,
     /// Whether to look for intersecting tetrahedra at all. Default `true`.
     pub check_intersections: bool,
@@ -126,15 +129,25 @@ impl HullOptions {
     /// # Errors
     /// [`HullError::InvalidOption`] naming the option.
     pub fn validate(&self) -> Result<(), HullError> {
-        let nonneg = [("zero_tolerance", self.zero_tolerance), ("overlap_tolerance", self.overlap_tolerance)];
+        let nonneg = [
+            ("zero_tolerance", self.zero_tolerance),
+            ("overlap_tolerance", self.overlap_tolerance),
+        ];
         for (name, x) in nonneg {
             if !(x >= 0.0 && x.is_finite()) {
-                return Err(HullError::InvalidOption(format!("{name} = {x} must be finite and ≥ 0")));
+                return Err(HullError::InvalidOption(format!(
+                    "{name} = {x} must be finite and ≥ 0"
+                )));
             }
         }
-        for (name, x) in [("epsilon", self.epsilon), ("min_apex_height", self.min_apex_height)] {
+        for (name, x) in [
+            ("epsilon", self.epsilon),
+            ("min_apex_height", self.min_apex_height),
+        ] {
             if !(x > 0.0 && x.is_finite()) {
-                return Err(HullError::InvalidOption(format!("{name} = {x} must be finite and > 0")));
+                return Err(HullError::InvalidOption(format!(
+                    "{name} = {x} must be finite and > 0"
+                )));
             }
         }
         Ok(())

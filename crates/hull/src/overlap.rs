@@ -91,3 +91,99 @@ pub fn overlap_depth(a: &[DVec3; 4], b: &[DVec3; 4]) -> f64 {
 pub fn tetrahedra_overlap(a: &[DVec3; 4], b: &[DVec3; 4], tolerance: f64) -> bool {
     overlap_depth(a, b) > tolerance
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A tiny deterministic generator (no external crates in unit tests).
+    struct Lcg(u64);
+    impl Lcg {
+        fn next(&mut self) -> f64 {
+            self.0 = self
+                .0
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (self.0 >> 11) as f64 / (1u64 << 53) as f64
+        }
+        fn point(&mut self) -> DVec3 {
+            DVec3::new(self.next(), self.next(), self.next()) * 2.0 - 1.0
+        }
+    }
+
+    fn bary(t: &[DVec3; 4], p: DVec3) -> [f64; 4] {
+        let m = glam::DMat3::from_cols(t[1] - t[0], t[2] - t[0], t[3] - t[0]);
+        let x = m.inverse() * (p - t[0]);
+        [1.0 - x.x - x.y - x.z, x.x, x.y, x.z]
+    }
+
+    /// Against sampling: a sample point strictly inside both proves an overlap, and pairs the
+    /// test calls deeply overlapping contain such points.
+    #[test]
+    fn agrees_with_sampling() {
+        let mut r = Lcg(7);
+        let (mut found, mut deep) = (0, 0);
+        for _ in 0..300 {
+            let a: [DVec3; 4] = std::array::from_fn(|_| r.point());
+            let b: [DVec3; 4] = std::array::from_fn(|_| r.point() * 0.7 + 0.4);
+            let d = overlap_depth(&a, &b);
+            let mut witness = false;
+            for _ in 0..2000 {
+                let w: [f64; 4] = std::array::from_fn(|_| r.next() + 1e-3);
+                let s: f64 = w.iter().sum();
+                let p = (0..4).map(|k| a[k] * (w[k] / s)).sum::<DVec3>();
+                if bary(&b, p).iter().all(|&x| x > 1e-9) {
+                    witness = true;
+                    break;
+                }
+            }
+            if witness {
+                found += 1;
+                assert!(d > 0.0, "a common interior point but depth {d}");
+            }
+            if d > 0.05 {
+                deep += 1;
+                assert!(witness, "depth {d} but no common point found");
+            }
+        }
+        assert!(found > 20 && deep > 10, "{found} {deep}");
+    }
+
+    #[test]
+    fn touching_is_not_overlapping() {
+        let a = [DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::Z];
+        // Shared edge only, other side.
+        let b = [
+            DVec3::X,
+            DVec3::Y,
+            DVec3::new(1.0, 1.0, 0.0),
+            DVec3::new(1.0, 1.0, 1.0),
+        ];
+        assert!(!tetrahedra_overlap(&a, &b, 1e-9));
+        // Shared vertex only.
+        let c = [
+            DVec3::X,
+            DVec3::new(2.0, 0.0, 0.0),
+            DVec3::new(1.5, 1.0, 0.0),
+            DVec3::new(1.5, 0.0, 1.0),
+        ];
+        assert!(!tetrahedra_overlap(&a, &c, 1e-9));
+        // Far from the origin, shared face.
+        let o = DVec3::new(1e7, -3e6, 2e6);
+        let a2 = a.map(|p| p * 1e-3 + o);
+        let b2 = [DVec3::X, DVec3::Y, DVec3::Z, DVec3::ONE].map(|p| p * 1e-3 + o);
+        assert!(!tetrahedra_overlap(&a2, &b2, 1e-9));
+        // Edge-edge crossing needs a cross-product axis: a tetrahedron pierced by a thin one.
+        let thin = [
+            v(0.2, 0.2, -1.0),
+            v(0.25, 0.2, -1.0),
+            v(0.2, 0.25, -1.0),
+            v(0.22, 0.22, 2.0),
+        ];
+        assert!(tetrahedra_overlap(&a, &thin, 1e-9));
+    }
+
+    fn v(x: f64, y: f64, z: f64) -> DVec3 {
+        DVec3::new(x, y, z)
+    }
+}

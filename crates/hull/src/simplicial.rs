@@ -4,10 +4,10 @@ use crate::bvh::Bvh;
 use crate::classify::Side;
 use crate::hull::{HullEdge, HullFace, build as build_faces_edges, check_input};
 use crate::overlap::overlap_depth;
+use crate::refine::RefineState;
 use crate::{HullError, HullOptions};
-use algesurf_mesh::{TriMesh, butterfly_refine_edge, loop_limit_normal};
+use algesurf_mesh::TriMesh;
 use glam::DVec3;
-use std::collections::HashMap;
 
 /// The mesh element a hull tetrahedron belongs to (ids of the possibly refined mesh).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -68,10 +68,6 @@ pub struct SimplicialHull {
     options: HullOptions,
 }
 
-fn key(a: u32, b: u32) -> [u32; 2] {
-    if a < b { [a, b] } else { [b, a] }
-}
-
 impl SimplicialHull {
     /// Builds the hull of the triangle mesh `(positions, triangles)` with per-vertex normals.
     ///
@@ -81,11 +77,16 @@ impl SimplicialHull {
     /// to). Open meshes are accepted: boundary edges are classified but carry no edge
     /// tetrahedra, so the hull — and the surface built in it — ends at the boundary.
     ///
-    /// Procedure: build all tetrahedra; find every pair whose interiors overlap (candidates from
-    /// a bounding-volume hierarchy, exact test by [`crate::overlap_depth`]); if there are any,
-    /// split an edge per pair by the modified Butterfly rule (the shared edge of adjacent
-    /// tetrahedra, else the longest edge of each element), give each new vertex its Loop limit
-    /// normal, rebuild and repeat, at most [`HullOptions::max_refinement_rounds`] times.
+    /// Procedure (§3.1): build all tetrahedra; find every pair whose interiors overlap
+    /// (candidates from a bounding-volume hierarchy over all face and edge tetrahedra, adjacent
+    /// or not; each decided by [`crate::overlap_depth`]); if there are any, bisect every face
+    /// of every such pair (for an edge tetrahedron: both faces of its edge) by Rivara's
+    /// longest-edge propagation, each split putting the new vertex at the modified Butterfly
+    /// edge point and giving it the unit Loop limit normal of the refined mesh; rebuild and
+    /// repeat, at most [`HullOptions::max_refinement_rounds`] times. The paper splits only the
+    /// common edge; that makes slivers whose tetrahedra stay as tall as before and did not
+    /// resolve intersections in our tests, hence the bisection of the faces. Input vertices
+    /// keep their positions, ids and normals.
     ///
     /// # Errors
     /// See [`HullError`]; [`HullError::UnresolvedIntersection`] names the input edge when
@@ -105,99 +106,119 @@ impl SimplicialHull {
     ///
     /// # Errors
     /// See [`SimplicialHull::new`].
-    pub fn from_mesh(mesh: &TriMesh, normals: &[DVec3], options: &HullOptions) -> Result<SimplicialHull, HullError> {
+    pub fn from_mesh(
+        mesh: &TriMesh,
+        normals: &[DVec3],
+        options: &HullOptions,
+    ) -> Result<SimplicialHull, HullError> {
         Self::new(mesh.positions(), mesh.triangles(), normals, options)
     }
 
-    fn build(mut mesh: TriMesh, mut normals: Vec<DVec3>, options: &HullOptions) -> Result<SimplicialHull, HullError> {
+    fn build(
+        mesh: TriMesh,
+        normals: Vec<DVec3>,
+        options: &HullOptions,
+    ) -> Result<SimplicialHull, HullError> {
         options.validate()?;
         check_input(&mesh, &normals)?;
-        let input_vertex_count = mesh.vertex_count();
-        let mut face_map: Vec<u32> = (0..mesh.face_count() as u32).collect();
-        let mut ancestor: HashMap<[u32; 2], [u32; 2]> = HashMap::new();
-        let mut refinements = Vec::new();
+        let mut state = RefineState::new(mesh, normals);
         let mut round = 0;
+        // The error to report if a refinement round makes the hull invalid.
+        let mut pending: Option<HullError> = None;
         loop {
-            let (faces, edges) = build_faces_edges(&mesh, &normals, &face_map, options)?;
+            let built = build_faces_edges(&state.mesh, &state.normals, &state.face_map, options);
+            let (faces, edges) = match (built, pending.take()) {
+                (Ok(x), _) => x,
+                (Err(e), None) => return Err(e),
+                (
+                    Err(e),
+                    Some(HullError::UnresolvedIntersection {
+                        edge,
+                        faces,
+                        rounds,
+                        ..
+                    }),
+                ) => {
+                    return Err(HullError::UnresolvedIntersection {
+                        edge,
+                        faces,
+                        rounds: rounds + 1,
+                        reason: format!("refining made the hull invalid: {e}"),
+                    });
+                }
+                (Err(_), Some(other)) => return Err(other),
+            };
             let hull = SimplicialHull {
-                mesh,
-                normals,
+                mesh: state.mesh.clone(),
+                normals: Vec::new(),
                 faces,
                 edges,
-                face_map,
-                input_vertex_count,
-                refinements,
+                face_map: Vec::new(),
+                input_vertex_count: state.input_vertex_count,
+                refinements: Vec::new(),
                 options: options.clone(),
             };
-            if !options.check_intersections {
-                return Ok(hull);
-            }
-            let hits = hull.intersections();
+            let hits = if options.check_intersections {
+                hull.intersections()
+            } else {
+                Vec::new()
+            };
             if hits.is_empty() {
-                return Ok(hull);
+                return Ok(SimplicialHull {
+                    normals: state.normals,
+                    face_map: state.face_map,
+                    refinements: state.refinements,
+                    ..hull
+                });
             }
-            if std::env::var_os("HULL_DEBUG").is_some() {
-                eprintln!("round {round}: {} hits, faces {}", hits.len(), hull.faces.len());
-                for h in hits.iter().take(6) {
-                    eprintln!("   {:?} {:?} / {:?} {:?} depth {:.3e}", h.first.element, h.first.side, h.second.element, h.second.side, h.depth);
-                }
+            let hit = &hits[0];
+            let [a, b] = hull.edges[hull.conflict_edge(hit) as usize].vertices;
+            let unresolved = |reason: String| HullError::UnresolvedIntersection {
+                edge: state.input_edge(a, b),
+                faces: [
+                    state.face_map[hull.element_faces(hit.first.element)[0] as usize],
+                    state.face_map[hull.element_faces(hit.second.element)[0] as usize],
+                ],
+                rounds: round,
+                reason,
+            };
+            if round == options.max_refinement_rounds {
+                return Err(unresolved(format!(
+                    "the limit of {round} rounds is reached"
+                )));
             }
-            let mut splits: Vec<[u32; 2]> = Vec::new();
+            pending = Some(unresolved(String::new()));
+            // Faces to bisect, with their corners now (ids of split faces get reused).
+            let mut targets: Vec<u32> = Vec::new();
+            let mut seen = vec![false; hull.faces.len()];
             for hit in &hits {
-                for e in hull.edges_to_refine(hit) {
-                    let v = hull.edges[e as usize].vertices;
-                    if !splits.contains(&key(v[0], v[1])) {
-                        splits.push(key(v[0], v[1]));
+                for el in [hit.first.element, hit.second.element] {
+                    for f in hull.element_faces(el) {
+                        if !std::mem::replace(&mut seen[f as usize], true) {
+                            targets.push(f);
+                        }
                     }
                 }
             }
-            if round == options.max_refinement_rounds {
-                let hit = &hits[0];
-                let e = hull.edges_to_refine(hit)[0];
-                let [a, b] = hull.edges[e as usize].vertices;
-                return Err(HullError::UnresolvedIntersection {
-                    edge: ancestor.get(&key(a, b)).copied().unwrap_or(key(a, b)),
-                    faces: [hull.input_face_of(hit.first.element), hull.input_face_of(hit.second.element)],
-                    rounds: round,
-                });
-            }
-            let SimplicialHull {
-                mesh: m,
-                normals: n,
-                face_map: fm,
-                refinements: r,
-                ..
-            } = hull;
-            (mesh, normals, face_map, refinements) = (m, n, fm, r);
-            for [a, b] in splits {
-                if mesh.topology().find_edge(a, b).is_none() {
-                    continue; // already split this round
-                }
-                let input_edge = ancestor.get(&[a, b]).copied().unwrap_or([a, b]);
-                let refined = butterfly_refine_edge(&mesh, a, b)?;
-                let mv = refined.new_vertex;
-                face_map = refined.face_parent.iter().map(|&f| face_map[f as usize]).collect();
-                mesh = refined.mesh;
-                normals.push(new_vertex_normal(&mesh, mv));
-                for &w in mesh.one_ring(mv).map(|r| r.neighbors).unwrap_or_default().iter() {
-                    ancestor.insert(key(mv, w), input_edge);
-                }
-                refinements.push(Refinement {
-                    round,
-                    edge: [a, b],
-                    input_edge,
-                    new_vertex: mv,
-                });
+            let corners: Vec<[u32; 3]> = targets
+                .iter()
+                .map(|&f| state.mesh.triangles()[f as usize])
+                .collect();
+            for (&f, &c) in targets.iter().zip(&corners) {
+                state.bisect_face(f, c, round)?;
             }
             round += 1;
         }
     }
 
-    /// The input face a tetrahedron's element lies in (for an edge: its face `[p_i p_j p_k]`).
-    fn input_face_of(&self, e: Element) -> u32 {
+    /// The faces of an element (one for a face, one or two for an edge).
+    fn element_faces(&self, e: Element) -> Vec<u32> {
         match e {
-            Element::Face(f) => self.face_map[f as usize],
-            Element::Edge(e) => self.face_map[self.edges[e as usize].face_k as usize],
+            Element::Face(f) => vec![f],
+            Element::Edge(e) => {
+                let edge = &self.edges[e as usize];
+                std::iter::once(edge.face_k).chain(edge.face_l).collect()
+            }
         }
     }
 
@@ -214,22 +235,18 @@ impl SimplicialHull {
         self.mesh.positions()[a as usize].distance(self.mesh.positions()[b as usize])
     }
 
-    /// The edges to split for an intersecting pair: their shared edge, else the longest edge of
-    /// each element.
-    fn edges_to_refine(&self, hit: &Intersection) -> Vec<u32> {
+    /// The edge an intersection is named by: the edge the two elements share, else the
+    /// longest edge of the first element.
+    fn conflict_edge(&self, hit: &Intersection) -> u32 {
         let ea = self.element_edges(hit.first.element);
         let eb = self.element_edges(hit.second.element);
         if let Some(&e) = ea.iter().find(|e| eb.contains(e)) {
-            return vec![e];
+            return e;
         }
-        let longest = |es: &[u32]| {
-            es.iter()
-                .copied()
-                .max_by(|&x, &y| self.edge_length(x).total_cmp(&self.edge_length(y)))
-                .unwrap_or(0)
-        };
-        let (x, y) = (longest(&ea), longest(&eb));
-        if x == y { vec![x] } else { vec![x, y] }
+        ea.iter()
+            .copied()
+            .max_by(|&x, &y| self.edge_length(x).total_cmp(&self.edge_length(y)))
+            .unwrap_or(0)
     }
 
     /// Every tetrahedron of Σ: face tetrahedra in face order (positive before negative), then
@@ -331,17 +348,4 @@ impl SimplicialHull {
     pub fn options(&self) -> &HullOptions {
         &self.options
     }
-}
-
-/// The normal given to a vertex inserted by refinement: the unit normal of the limit surface of
-/// Loop's scheme on the refined mesh (the paper's choice of normals, §3), turned to the faces'
-/// side; the area-weighted normal where the Loop normal is undefined.
-fn new_vertex_normal(mesh: &TriMesh, v: u32) -> DVec3 {
-    let mut area = DVec3::ZERO;
-    for f in mesh.topology().vertex_faces(v) {
-        area += mesh.face_normal(f as usize);
-    }
-    let l = loop_limit_normal(mesh, v).unwrap_or(DVec3::ZERO);
-    let l = if l.length() > 0.0 && l.is_finite() { l.normalize() } else { area.normalize_or_zero() };
-    if l.dot(area) < 0.0 { -l } else { l }
 }

@@ -38,6 +38,16 @@ pub struct RepairOptions {
     pub drop_duplicate_faces: bool,
     /// Drop vertices that no face uses. Default `true`.
     pub drop_unused_vertices: bool,
+    /// Make the mesh manifold without dropping faces: every vertex with more than one fan
+    /// of faces (faces are joined into a fan across edges with exactly two faces) keeps its
+    /// first fan and gets a new copy, with the same position, normal and properties, for
+    /// each further fan. Because fans never cross an edge with more than two faces, this
+    /// also detaches the faces of every non-manifold edge from each other: afterwards each
+    /// edge has at most two faces, and two faces stay joined along a former non-manifold
+    /// edge only when they are in the same fan at both of its endpoints. Runs after
+    /// duplicate-face removal (so doubled faces are dropped rather than detached) and before
+    /// orientation. Default `true`.
+    pub split_non_manifold_vertices: bool,
     /// Orient faces consistently per component, outward (positive signed volume) for closed
     /// manifold components; open components keep the orientation of the majority of their
     /// faces. Default `true`.
@@ -53,6 +63,7 @@ impl Default for RepairOptions {
             degenerate_area: DEFAULT_DEGENERATE_AREA,
             drop_duplicate_faces: true,
             drop_unused_vertices: true,
+            split_non_manifold_vertices: true,
             orient: true,
         }
     }
@@ -75,6 +86,14 @@ pub struct RepairReport {
     pub dropped_degenerate_faces: Vec<u32>,
     /// Faces dropped as duplicates of an earlier face.
     pub dropped_duplicate_faces: Vec<u32>,
+    /// Edges with more than two faces (as pairs of input vertex ids, after welding) whose
+    /// faces were detached from each other by [`RepairOptions::split_non_manifold_vertices`].
+    pub detached_non_manifold_edges: Vec<[u32; 2]>,
+    /// Vertices split by [`RepairOptions::split_non_manifold_vertices`]:
+    /// `(input vertex, number of fans)`; the vertex keeps its first fan and each further fan
+    /// gets a new output vertex (appended after the others, and mapped back to the input
+    /// vertex by [`RepairReport::vertex_map`]).
+    pub split_vertices: Vec<(u32, u32)>,
     /// Faces whose orientation was reversed.
     pub flipped_faces: Vec<u32>,
     /// Number of components that cannot be oriented consistently (Möbius-like); their faces
@@ -97,16 +116,21 @@ impl RepairReport {
             && self.triangulated_faces.is_empty()
             && self.dropped_degenerate_faces.is_empty()
             && self.dropped_duplicate_faces.is_empty()
+            && self.detached_non_manifold_edges.is_empty()
+            && self.split_vertices.is_empty()
             && self.flipped_faces.is_empty()
             && self.dropped_unused_vertices.is_empty())
     }
 
     /// For each input vertex, its output vertex (`None` when dropped). Welded vertices map to
-    /// the output vertex of the vertex they were merged into.
+    /// the output vertex of the vertex they were merged into; a split vertex maps to the copy
+    /// that kept its first fan (the lowest output id).
     pub fn input_to_output_vertices(&self, input_vertex_count: usize) -> Vec<Option<u32>> {
         let mut out = vec![None; input_vertex_count];
         for (o, &i) in self.vertex_map.iter().enumerate() {
-            if let Some(x) = out.get_mut(i as usize) {
+            if let Some(x) = out.get_mut(i as usize)
+                && x.is_none()
+            {
                 *x = Some(o as u32);
             }
         }
@@ -121,14 +145,22 @@ impl RepairReport {
 }
 
 fn ids(f: &mut fmt::Formatter<'_>, what: &str, v: &[u32]) -> fmt::Result {
-    if v.is_empty() {
+    list(f, what, v.iter().map(|x| x.to_string()))
+}
+
+fn list(
+    f: &mut fmt::Formatter<'_>,
+    what: &str,
+    items: impl ExactSizeIterator<Item = String>,
+) -> fmt::Result {
+    let n = items.len();
+    if n == 0 {
         return Ok(());
     }
     const SHOW: usize = 20;
-    write!(f, "{what}: {}", v.len())?;
-    let shown: Vec<String> = v.iter().take(SHOW).map(|x| x.to_string()).collect();
-    write!(f, " [{}", shown.join(", "))?;
-    if v.len() > SHOW {
+    let shown: Vec<String> = items.take(SHOW).collect();
+    write!(f, "{what}: {n} [{}", shown.join(", "))?;
+    if n > SHOW {
         write!(f, ", ...")?;
     }
     writeln!(f, "]")
@@ -150,6 +182,20 @@ impl fmt::Display for RepairReport {
             &self.dropped_degenerate_faces,
         )?;
         ids(f, "dropped duplicate faces", &self.dropped_duplicate_faces)?;
+        list(
+            f,
+            "detached faces along non-manifold edges",
+            self.detached_non_manifold_edges
+                .iter()
+                .map(|[a, b]| format!("({a}, {b})")),
+        )?;
+        list(
+            f,
+            "split non-manifold vertices",
+            self.split_vertices
+                .iter()
+                .map(|(v, n)| format!("{v} into {n}")),
+        )?;
         ids(f, "flipped faces", &self.flipped_faces)?;
         ids(f, "dropped unused vertices", &self.dropped_unused_vertices)?;
         if self.non_orientable_components > 0 {
@@ -240,6 +286,16 @@ pub fn weld_map(positions: &[DVec3], tolerance: f64) -> Vec<u32> {
     rep
 }
 
+fn flatten(faces: &[(u32, Vec<u32>)]) -> (Vec<u32>, Vec<u32>) {
+    let mut offsets = vec![0u32];
+    let mut corners = Vec::new();
+    for (_, face) in faces {
+        corners.extend_from_slice(face);
+        offsets.push(corners.len() as u32);
+    }
+    (offsets, corners)
+}
+
 fn dedup_sorted(mut v: Vec<u32>) -> Vec<u32> {
     v.sort_unstable();
     v.dedup();
@@ -266,8 +322,13 @@ fn map_property(p: &Property, map: &[u32]) -> Property {
 }
 
 /// Repairs `mesh` with the chosen steps, in this order: drop invalid faces, weld, drop
-/// collapsed faces, triangulate, drop degenerate faces, drop duplicate faces, orient, drop
-/// unused vertices. Vertex normals and per-vertex/per-face properties follow the maps.
+/// collapsed faces, triangulate, drop degenerate faces, drop duplicate faces, split
+/// non-manifold vertices (detaching non-manifold edges), orient, drop unused vertices. Vertex
+/// normals and per-vertex/per-face properties follow the maps.
+///
+/// With every step enabled (the default) the output is a valid, consistently oriented
+/// triangle mesh ([`crate::validate()`] finds nothing) unless a component is non-orientable
+/// (counted in [`RepairReport::non_orientable_components`]).
 ///
 /// # Errors
 /// [`MeshError::TooLarge`] when the mesh exceeds 32-bit indices.
@@ -368,15 +429,43 @@ pub fn repair(mesh: &PolygonMesh, options: &RepairOptions) -> Result<Repaired, M
         });
         report.dropped_duplicate_faces = dedup_sorted(dropped);
     }
-    // 7. Orientation.
-    if options.orient && !faces.is_empty() {
-        let mut offsets = vec![0u32];
-        let mut corners = Vec::new();
-        for (_, face) in &faces {
-            corners.extend_from_slice(face);
-            offsets.push(corners.len() as u32);
-        }
+    // 7. Non-manifold vertices and edges: one vertex copy per extra fan. `src[v]` is the
+    // input vertex that (possibly new) vertex `v` stands for.
+    let mut src: Vec<u32> = (0..nv as u32).collect();
+    if options.split_non_manifold_vertices && !faces.is_empty() {
+        let (offsets, corners) = flatten(&faces);
         let topo = Topology::new(nv, &offsets, &corners)?;
+        for e in 0..topo.edge_count() as u32 {
+            if topo.edge_face_count(e) > 2 {
+                report.detached_non_manifold_edges.push(topo.edge(e));
+            }
+        }
+        for v in 0..nv as u32 {
+            if topo.vertex_corners(v).len() < 2 {
+                continue;
+            }
+            let fans = topo.fans(v);
+            if fans.len() < 2 {
+                continue;
+            }
+            report.split_vertices.push((v, fans.len() as u32));
+            for fan in &fans[1..] {
+                let copy = src.len() as u32;
+                src.push(v);
+                for &f in &fan.faces {
+                    for c in faces[f as usize].1.iter_mut().filter(|c| **c == v) {
+                        *c = copy;
+                    }
+                }
+            }
+        }
+    }
+    let nv_split = src.len();
+    let pos = |v: u32| mesh.positions[src[v as usize] as usize];
+    // 8. Orientation.
+    if options.orient && !faces.is_empty() {
+        let (offsets, corners) = flatten(&faces);
+        let topo = Topology::new(nv_split, &offsets, &corners)?;
         let (mut flips, comp, orientable) = topo.orientation_flips();
         report.non_orientable_components = orientable.iter().filter(|o| !**o).count();
         let ncomp = orientable.len();
@@ -395,7 +484,7 @@ pub fn repair(mesh: &PolygonMesh, options: &RepairOptions) -> Result<Repaired, M
                 let mut n = 0.0;
                 for &f in cf {
                     for &v in topo.face(f as usize) {
-                        o += mesh.positions[v as usize];
+                        o += pos(v);
                         n += 1.0;
                     }
                 }
@@ -406,11 +495,7 @@ pub fn repair(mesh: &PolygonMesh, options: &RepairOptions) -> Result<Repaired, M
                     (1..face.len() - 1).map(move |i| {
                         let (a, b, c) = (face[0], face[i], face[i + 1]);
                         let (b, c) = if flip { (c, b) } else { (b, c) };
-                        [
-                            mesh.positions[a as usize],
-                            mesh.positions[b as usize],
-                            mesh.positions[c as usize],
-                        ]
+                        [pos(a), pos(b), pos(c)]
                     })
                 });
                 signed_volume(o, tris) < 0.0
@@ -432,20 +517,22 @@ pub fn repair(mesh: &PolygonMesh, options: &RepairOptions) -> Result<Repaired, M
         }
         report.flipped_faces = dedup_sorted(flipped);
     }
-    // 8. Vertices: drop welded-away ones always, unused ones on request.
-    let mut used = vec![false; nv];
+    // 9. Vertices: drop welded-away ones always, unused ones on request; split copies (all
+    // used) come after the input's vertices.
+    let mut used = vec![false; nv_split];
     for (_, face) in &faces {
         for &v in face {
             used[v as usize] = true;
         }
     }
-    let mut new_id = vec![u32::MAX; nv];
-    for v in 0..nv {
-        let keep = rep[v] == v as u32 && (used[v] || !options.drop_unused_vertices);
+    let mut new_id = vec![u32::MAX; nv_split];
+    for v in 0..nv_split {
+        let own = v >= nv || rep[v] == v as u32;
+        let keep = own && (used[v] || !options.drop_unused_vertices);
         if keep {
             new_id[v] = report.vertex_map.len() as u32;
-            report.vertex_map.push(v as u32);
-        } else if rep[v] == v as u32 {
+            report.vertex_map.push(src[v]);
+        } else if own {
             report.dropped_unused_vertices.push(v as u32);
         }
     }

@@ -29,6 +29,11 @@ pub struct Fan {
 }
 
 /// A connected component of faces (faces are connected when they share an edge).
+///
+/// Components that touch only at a vertex are separate components; that vertex counts in
+/// each of them (so the components' Euler characteristics need not add up to
+/// [`Topology::euler_characteristic`]), and it is a non-manifold vertex of the mesh (reported
+/// by validation) while each component can still be manifold on its own.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Component {
     /// Faces of the component, ascending.
@@ -39,11 +44,12 @@ pub struct Component {
     pub edge_count: usize,
     /// Number of boundary edges (edges with exactly one face).
     pub boundary_edge_count: usize,
-    /// Number of boundary loops.
+    /// Number of boundary loops (traced fan by fan, see [`Topology::boundary_loops`]).
     pub boundary_loop_count: usize,
     /// Euler characteristic V - E + F.
     pub euler_characteristic: i64,
-    /// True when every edge has at most two faces and every vertex a single fan.
+    /// True when every edge of the component has at most two faces and every vertex has a
+    /// single fan of the component's faces.
     pub manifold: bool,
     /// True when all faces can be oriented consistently (always false when not manifold).
     pub orientable: bool,
@@ -478,42 +484,102 @@ impl Topology {
         if fans.len() == 1 { fans.pop() } else { None }
     }
 
-    /// Boundary loops as vertex sequences, following the half-edge direction of the first
-    /// edge of each loop. A loop passing a vertex twice (a non-manifold boundary vertex) is
-    /// split where the walk continues along any unused boundary edge at that vertex.
-    pub fn boundary_loops(&self) -> Vec<Vec<u32>> {
-        let bedges: Vec<u32> = (0..self.edges.len() as u32)
-            .filter(|&e| self.is_boundary_edge(e))
-            .collect();
+    /// The boundary edge that continues a boundary loop through vertex `v`, arriving there
+    /// along boundary edge `e` (whose only half-edge is `h`): the other boundary edge of the
+    /// fan of `h`'s face at `v`, found by rotating around `v` across edges with exactly two
+    /// faces. `None` when the rotation meets a non-manifold edge (more than two faces).
+    fn next_boundary_edge(&self, v: u32, e: u32, h: u32) -> Option<u32> {
+        let mut c = self.corner_at(h, v);
+        let mut enter = e;
+        for _ in 0..=self.vertex_corners(v).len() {
+            let (ein, eout) = self.corner_edges(c);
+            let exit = if ein == enter { eout } else { ein };
+            match self.edge_half_edges(exit) {
+                [_] => return Some(exit),
+                &[a, b] => {
+                    let h2 = if self.corner_at(a, v) == c { b } else { a };
+                    c = self.corner_at(h2, v);
+                    enter = exit;
+                }
+                _ => return None,
+            }
+        }
+        None
+    }
+
+    /// Boundary loops as sequences of edge ids, each with the vertex it starts at.
+    ///
+    /// A loop is traced fan by fan: at each vertex it leaves along the other boundary edge of
+    /// the fan it arrived in, so it never jumps to another fan (or another component) at a
+    /// non-manifold vertex where several boundary loops touch. Only where a fan ends at a
+    /// non-manifold edge (more than two faces), which has no well-defined continuation, does
+    /// the walk take the lowest-numbered unused boundary edge at the vertex; if there is none
+    /// the loop is left open (its last vertex differs from its first).
+    fn boundary_loop_edges(&self) -> Vec<(u32, Vec<u32>)> {
         let mut used = vec![false; self.edges.len()];
         let mut loops = Vec::new();
-        for &e0 in &bedges {
-            if used[e0 as usize] {
+        for e0 in 0..self.edges.len() as u32 {
+            if used[e0 as usize] || !self.is_boundary_edge(e0) {
                 continue;
             }
             used[e0 as usize] = true;
-            let h = self.edge_half_edges(e0)[0];
-            let start = self.corners[h as usize];
-            let mut cur = self.corners[self.next(h) as usize];
-            let mut lp = vec![start];
-            while cur != start {
-                lp.push(cur);
-                let nxt = self
-                    .vertex_edges(cur)
-                    .iter()
-                    .copied()
-                    .find(|&e| !used[e as usize] && self.is_boundary_edge(e));
+            let h0 = self.edge_half_edges(e0)[0];
+            let start = self.corners[h0 as usize];
+            let mut cur = self.corners[self.next(h0) as usize];
+            let (mut e, mut h) = (e0, h0);
+            let mut lp = vec![e0];
+            loop {
+                let nxt = self.next_boundary_edge(cur, e, h).or_else(|| {
+                    self.vertex_edges(cur)
+                        .iter()
+                        .copied()
+                        .find(|&x| !used[x as usize] && self.is_boundary_edge(x))
+                });
                 match nxt {
-                    Some(e) => {
-                        used[e as usize] = true;
-                        cur = self.opposite_vertex(e, cur);
+                    Some(x) if x == e0 => break,
+                    Some(x) if !used[x as usize] => {
+                        used[x as usize] = true;
+                        lp.push(x);
+                        cur = self.opposite_vertex(x, cur);
+                        e = x;
+                        h = self.edge_half_edges(x)[0];
                     }
-                    None => break,
+                    _ => break,
                 }
             }
-            loops.push(lp);
+            loops.push((start, lp));
         }
         loops
+    }
+
+    /// Boundary loops as vertex sequences (the closing vertex is not repeated), following the
+    /// half-edge direction of the first edge of each loop. Loops are traced per fan, so two
+    /// loops touching at a vertex (a non-manifold vertex) stay two loops, and a loop never
+    /// crosses from one component into another at a shared vertex.
+    pub fn boundary_loops(&self) -> Vec<Vec<u32>> {
+        self.boundary_loop_edges()
+            .into_iter()
+            .map(|(start, edges)| {
+                let mut cur = start;
+                let mut lp = Vec::with_capacity(edges.len());
+                for e in edges {
+                    lp.push(cur);
+                    cur = self.opposite_vertex(e, cur);
+                }
+                lp
+            })
+            .collect()
+    }
+
+    /// Euler characteristic V - E + F of the whole mesh, with V the number of vertices used by
+    /// some face (unused vertices are not part of the surface). This is not the sum of the
+    /// components' characteristics when components share a vertex (that vertex counts once
+    /// here and once in each component).
+    pub fn euler_characteristic(&self) -> i64 {
+        let used = (0..self.vertex_count as u32)
+            .filter(|&v| self.is_used(v))
+            .count();
+        used as i64 - self.edges.len() as i64 + self.face_count() as i64
     }
 
     /// Face components (faces sharing an edge are connected) with their Euler characteristic,
@@ -586,15 +652,10 @@ impl Topology {
         orientable: Vec<bool>,
     ) -> Vec<Component> {
         let mut vmark = vec![NONE; self.vertex_count];
-        let loops = self.boundary_loops();
         let mut loop_count = vec![0usize; comps.len()];
-        for lp in &loops {
-            if let (Some(&a), Some(&b)) = (lp.first(), lp.get(1))
-                && let Some(e) = self.find_edge(a, b)
-            {
-                let f = self.edge_half_edges(e)[0];
-                loop_count[comp[self.corner_face[f as usize] as usize] as usize] += 1;
-            }
+        for (_, lp) in self.boundary_loop_edges() {
+            let h = self.edge_half_edges(lp[0])[0];
+            loop_count[comp[self.corner_face[h as usize] as usize] as usize] += 1;
         }
         comps
             .into_iter()
@@ -610,7 +671,14 @@ impl Topology {
                         if vmark[v as usize] != i as u32 {
                             vmark[v as usize] = i as u32;
                             vc += 1;
-                            if self.fans(v).len() > 1 {
+                            // Fans of `v` inside this component: components that only
+                            // touch at `v` leave each of them manifold there.
+                            let fans = self.fans(v);
+                            let own = fans
+                                .iter()
+                                .filter(|fan| comp[fan.faces[0] as usize] == i as u32)
+                                .count();
+                            if own > 1 {
                                 manifold = false;
                             }
                         }

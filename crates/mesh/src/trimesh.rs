@@ -200,12 +200,11 @@ impl TriMesh {
     pub fn components(&self) -> Vec<Component> {
         self.topology.components()
     }
-    /// Euler characteristic V - E + F of the whole mesh (unused vertices not counted).
+    /// Euler characteristic V - E + F of the whole mesh (unused vertices not counted; a
+    /// vertex shared by several components counts once, see
+    /// [`Topology::euler_characteristic`]).
     pub fn euler_characteristic(&self) -> i64 {
-        self.components()
-            .iter()
-            .map(|c| c.euler_characteristic)
-            .sum()
+        self.topology.euler_characteristic()
     }
     /// Signed enclosed volume of the triangles in `faces` (positive when a closed surface is
     /// oriented outward), measured from the centroid of their vertices.

@@ -171,8 +171,13 @@ pub struct ValidationReport {
     pub findings: Vec<Finding>,
     /// Components of the well-formed faces (face ids are input ids).
     pub components: Vec<Component>,
-    /// Boundary loops of the well-formed faces (vertex ids).
+    /// Boundary loops of the well-formed faces (vertex ids; see
+    /// [`crate::Topology::boundary_loops`]).
     pub boundary_loops: Vec<Vec<u32>>,
+    /// Euler characteristic V − E + F of the well-formed faces, V counting the vertices they
+    /// use (each once, even where components touch; see
+    /// [`crate::Topology::euler_characteristic`]).
+    pub euler_characteristic: i64,
 }
 
 impl ValidationReport {
@@ -351,6 +356,7 @@ pub fn validate_with(mesh: &PolygonMesh, options: &ValidationOptions) -> Validat
                 findings,
                 components: Vec::new(),
                 boundary_loops: Vec::new(),
+                euler_characteristic: 0,
             };
         }
     };
@@ -407,6 +413,7 @@ pub fn validate_with(mesh: &PolygonMesh, options: &ValidationOptions) -> Validat
         findings,
         components,
         boundary_loops: topo.boundary_loops(),
+        euler_characteristic: topo.euler_characteristic(),
     }
 }
 

@@ -22,7 +22,7 @@
 //! non-negative s among the real branches.
 
 use super::{
-    Root, RootOptions, UNIT_ROUNDOFF as U, deflate, end_multiplicities, eval_with_derivative,
+    Root, RootOptions, fastmath, UNIT_ROUNDOFF as U, deflate, end_multiplicities, eval_with_derivative,
     find_roots, validate,
 };
 use crate::BbError;
@@ -89,11 +89,13 @@ impl CardanoCubic {
         if a == 0.0 || !(a.is_finite() && b.is_finite() && c.is_finite() && d.is_finite()) {
             return None;
         }
-        let (beta, gamma, delta0) = (b / a, c / a, d / a);
+        // One division, then products: β, γ, δ carry at most 2u relative error each.
+        let inv = 1.0 / a;
+        let (beta, gamma, delta0) = (b * inv, c * inv, d * inv);
         let p = 3.0 * (gamma - beta * beta);
         let q = beta * (2.0 * beta * beta - 3.0 * gamma) + delta0;
         let half_q = 0.5 * q;
-        let third_p = p / 3.0;
+        let third_p = gamma - beta * beta;
         let delta = half_q * half_q + third_p * third_p * third_p;
         let out = CardanoCubic {
             shift: beta,
@@ -118,6 +120,48 @@ impl CardanoCubic {
             let (rho, theta) = self.polar();
             2.0 * rho * (theta / 3.0).cos()
         }
+    }
+
+    /// x₁ by the fast path of [`super::fastmath`] (relative error ≤ 3e-12 against [`Self::x1`] where the start is not cancelled):
+    /// the same formula (4.18)/(4.21), with the real cube root by a division-free Newton iteration and
+    /// `cos(θ/3)` from the triple-angle equation (`cos θ = (−q/2)/ρ³`, since `|−q/2 + i√−Δ| = ρ³`).
+    #[inline]
+    fn x1_fast(&self) -> f64 {
+        if self.delta >= 0.0 {
+            let sq = self.delta.sqrt();
+            let h = -0.5 * self.q;
+            let big = if h >= 0.0 { h + sq } else { h - sq };
+            if big == 0.0 {
+                // q = Δ = 0 ⇒ p = 0: the triple root x = 0.
+                return 0.0;
+            }
+            // r = 1/∛big (sign included), ∛big = big r², and the other cube root is
+            // −p/(3∛big) = −(p/3) r.
+            let r = fastmath::inv_cbrt(big.abs()).copysign(big);
+            big * r * r - (self.p * (1.0 / 3.0)) * r
+        } else {
+            let (rho, z) = self.rho_cos_theta();
+            2.0 * rho * fastmath::cos_third_of_arccos(z)
+        }
+    }
+
+    /// `(ρ, cos θ)` for `Δ < 0`: `ρ = √(−p/3)`, `cos θ = (−q/2)/ρ³`.
+    #[inline]
+    fn rho_cos_theta(&self) -> (f64, f64) {
+        let rho = (-self.p / 3.0).max(0.0).sqrt();
+        let r3 = rho * rho * rho;
+        let z = if r3 > 0.0 { -0.5 * self.q / r3 } else { 1.0 };
+        (rho, z)
+    }
+
+    /// x₁, x₂, x₃ for `Δ < 0` by the fast path: with `c = cos(θ/3)` and `s = sin(θ/3) =
+    /// √(1 − c²) ≥ 0` (θ/3 ∈ (0, π/3)), `2ρ cos(θ/3 ± 2π/3) = ρ(−c ∓ √3 s)`.
+    #[inline]
+    fn branches_fast_delta_negative(&self) -> [f64; 3] {
+        let (rho, z) = self.rho_cos_theta();
+        let c = fastmath::cos_third_of_arccos(z);
+        let s = (1.0 - c * c).max(0.0).sqrt() * 3f64.sqrt();
+        [2.0 * rho * c, rho * (-c - s), rho * (-c + s)]
     }
 
     /// `(u, v) = (∛(−q/2 ± √Δ))` for `Δ ≥ 0` (real cube roots), the larger-magnitude term first.
@@ -191,17 +235,19 @@ impl CardanoCubic {
     }
 }
 
-/// Value and derivative of a cubic in Bernstein form by de Casteljau (convex combinations for
-/// t ∈ [0, 1]: absolute error ≤ 6u max|b_k|).
+/// Value, first and second derivative of a cubic in Bernstein form by de Casteljau (convex
+/// combinations for t ∈ [0, 1]: absolute error of the value ≤ 6u max|b_k|). The derivatives
+/// come from the intermediate levels: `p' = 3(c_1 − c_0)`, `p'' = 6(b_01 − 2b_12 + b_23)`
+/// (Farin 1990, §4.3).
 #[inline(always)]
-fn eval3(b: &[f64; 4], t: f64) -> (f64, f64) {
+fn eval3(b: &[f64; 4], t: f64) -> (f64, f64, f64) {
     let s = 1.0 - t;
     let b01 = s * b[0] + t * b[1];
     let b12 = s * b[1] + t * b[2];
     let b23 = s * b[2] + t * b[3];
     let c0 = s * b01 + t * b12;
     let c1 = s * b12 + t * b23;
-    (s * c0 + t * c1, 3.0 * (c1 - c0))
+    (s * c0 + t * c1, 3.0 * (c1 - c0), 6.0 * (b01 - 2.0 * b12 + b23))
 }
 
 /// Below this relative size (`|a| ≤ 2^-20 Σ|b_k|`) the leading coefficient is treated as zero
@@ -282,7 +328,7 @@ fn cardano_smallest_s(cc: &CardanoCubic, a: f64, b: f64, d: f64) -> Option<(f64,
     // slightly negative s and are clamped to 0, then polished.
     let tol = |x: f64| 16.0 * U * (x.abs() + cc.shift.abs());
     if a * b > 0.0 && a * d < 0.0 {
-        let x = cc.x1();
+        let x = cc.x1_fast();
         let s = x - cc.shift;
         return (s >= -tol(x)).then_some((s.max(0.0), Branch::X1));
     }
@@ -294,13 +340,13 @@ fn cardano_smallest_s(cc: &CardanoCubic, a: f64, b: f64, d: f64) -> Option<(f64,
         }
     };
     if cc.delta > 0.0 {
-        consider(cc.x1(), Branch::X1);
+        consider(cc.x1_fast(), Branch::X1);
     } else {
         let [x1, x2, x3] = if cc.delta == 0.0 {
-            let x1 = cc.x1();
+            let x1 = cc.x1_fast();
             [x1, -0.5 * x1, -0.5 * x1]
         } else {
-            cc.real_branches_delta_negative()
+            cc.branches_fast_delta_negative()
         };
         consider(x1, Branch::X1);
         consider(x2, Branch::X2);
@@ -346,14 +392,19 @@ fn degenerate_near_one(coeffs: [f64; 4]) -> Result<Option<ShootingRoot>, BbError
 /// Safeguarded Newton polish of a root of the cubic near `t`: the bracket `[lo, hi]` starts as
 /// `[0, 1]` and is narrowed by the sign of p at each iterate (the smallest root separates the
 /// sign of `p(0) = b_0` from the opposite sign); a step that would leave the bracket, or that
-/// is not finite, ends the polish with the current iterate. Stops at a step below 2u|t|.
+/// is not finite, ends the polish with the current iterate.
+///
+/// Stopping rule: after a Newton step `h = f/f'` the error of the new iterate is
+/// `|f''/(2f')| h² (1 + O(h))` (Taylor expansion at the root; Kantorovich), so the polish stops
+/// as soon as that estimate is below half an ulp of t, `u t` — usually after one step, since
+/// the Cardano start is accurate to ~1e-12.
 #[inline]
 fn polish(b: &[f64; 4], t0: f64) -> f64 {
     let neg0 = b[0] < 0.0;
     let (mut lo, mut hi) = (0.0f64, 1.0f64);
     let mut t = t0;
     for _ in 0..NEWTON_STEPS {
-        let (f, df) = eval3(b, t);
+        let (f, df, d2f) = eval3(b, t);
         if f == 0.0 {
             break;
         }
@@ -362,13 +413,13 @@ fn polish(b: &[f64; 4], t0: f64) -> f64 {
         } else {
             hi = t;
         }
-        let next = t - f / df;
+        let h = f / df;
+        let next = t - h;
         if !(next >= lo && next <= hi) {
             break;
         }
-        let step = (next - t).abs();
         t = next;
-        if step <= 2.0 * U * t {
+        if (d2f * h * h).abs() <= 2.0 * U * (df * t).abs() {
             break;
         }
     }
@@ -529,14 +580,15 @@ fn cubic_interior(c: &[f64; 4], emax: f64) -> Vec<Root> {
         return Vec::new();
     };
     // First-order perturbation bounds of β, γ, δ (= b/a, c/a, d/a) when each coefficient moves
-    // by emax, plus their rounding (u relative), then of p, q and Δ through their formulas,
+    // by emax, plus their rounding (2u relative), then of p, q and Δ through their formulas,
     // each with the rounding of its own evaluation.
     let beta = cub.shift;
     let (gamma, delta0) = (cc / a, d / a);
+    // (β, γ, δ are recomputed here only for the bounds; `new` formed them with 2u error.)
     let ea = emax / a.abs();
-    let db = (1.0 + beta.abs()) * ea + U * beta.abs();
-    let dg = (1.0 + gamma.abs()) * ea + U * gamma.abs();
-    let dd = (1.0 + delta0.abs()) * ea + U * delta0.abs();
+    let db = (1.0 + beta.abs()) * ea + 2.0 * U * beta.abs();
+    let dg = (1.0 + gamma.abs()) * ea + 2.0 * U * gamma.abs();
+    let dd = (1.0 + delta0.abs()) * ea + 2.0 * U * delta0.abs();
     let dp = 3.0 * dg + 6.0 * beta.abs() * db + 4.0 * U * (3.0 * gamma.abs() + 3.0 * beta * beta);
     let dq = (6.0 * beta * beta + 3.0 * gamma.abs()) * db
         + 3.0 * beta.abs() * dg

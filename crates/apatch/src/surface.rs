@@ -1,0 +1,277 @@
+//! The whole C1 function F over the simplicial hull of a mesh, and its free parameters.
+
+use crate::sheet::face_bound;
+use crate::{ApatchError, EdgeCubic, EdgeNeighbour, FaceCubic, Quadric, SplitFace, VertexData};
+use algesurf_hull::{Convexity, HullOptions, Side, SimplicialHull};
+use algesurf_mesh::TriMesh;
+use glam::DVec3;
+use rayon::prelude::*;
+
+/// How the free parameters `f_0003` (the value of F at each apex) are chosen.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum FreeParameterRule {
+    /// The value at the apex of a quadric fitted to the face's neighbourhood (vertices and
+    /// gradients): reproduces quadrics exactly (Theorem 4.2, Corollary 4.3). The default.
+    #[default]
+    Quadric,
+    /// The value at the apex of the linear function fitted to the face's vertex data: the
+    /// intent of Step 8 (the cubic approximates a linear function). Valid, but loses quadric
+    /// precision.
+    Linear,
+}
+
+/// Options of [`ApatchSurface::new`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct SurfaceOptions {
+    /// Rule for the free parameters.
+    pub free_parameters: FreeParameterRule,
+    /// Options of the simplicial hull.
+    pub hull: HullOptions,
+    /// Margin kept above each single-sheet lower bound, relative to the size of the face's
+    /// layer-0/1 coefficients (`|∇F| · face size`). Default `1e-2`: Lemma 2.3 needs `b > b_min`
+    /// strictly, and a margin of that size keeps the smallest root well separated from the
+    /// double root that appears at `b = b_min`.
+    pub sheet_margin: f64,
+    /// Grid level on each face at which the single-sheet bound is evaluated. Default `8`.
+    pub bound_level: usize,
+}
+
+impl Default for SurfaceOptions {
+    fn default() -> Self {
+        SurfaceOptions {
+            free_parameters: FreeParameterRule::Quadric,
+            hull: HullOptions::default(),
+            sheet_margin: 1e-2,
+            bound_level: 8,
+        }
+    }
+}
+
+/// F on the tetrahedra of one mesh face.
+#[derive(Clone, Debug)]
+pub enum FaceFunction {
+    /// A zero convex face: no tetrahedra, the surface is the face itself (plane recovery).
+    Planar,
+    /// A positive or negative convex face: one rational cubic (4.1)/(4.2).
+    Convex {
+        /// Which side the tetrahedron is on.
+        side: Side,
+        /// The cubic.
+        cubic: FaceCubic,
+    },
+    /// A nonconvex face: three cubics on each side (index 0 positive, 1 negative).
+    Split(SplitFace),
+}
+
+impl FaceFunction {
+    /// The [`EdgeNeighbour`] on `side` for the face edge `(pi, pj)`.
+    pub fn edge_neighbour(&self, side: Side, pi: DVec3, pj: DVec3) -> Result<EdgeNeighbour, ApatchError> {
+        match (self, side) {
+            (FaceFunction::Convex { side: s, cubic }, _) if *s == side => cubic.edge_neighbour(pi, pj),
+            (FaceFunction::Split(split), Side::Positive) => split.sides[0].edge_neighbour(pi, pj),
+            (FaceFunction::Split(split), Side::Negative) => split.sides[1].edge_neighbour(pi, pj),
+            _ => Err(ApatchError::Inconsistent(format!(
+                "an edge tetrahedron on the {} side borders a face with no tetrahedron there",
+                side.name()
+            ))),
+        }
+    }
+}
+
+/// The free parameter of one face side, with its admissible range.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FreeParameter {
+    /// Face index (of the hull's, possibly refined, mesh).
+    pub face: usize,
+    /// Side of the apex.
+    pub side: Side,
+    /// Current value of F at the apex.
+    pub value: f64,
+    /// Single-sheet bound: the value must stay above it on the positive side and below it on
+    /// the negative side (Step 6).
+    pub bound: f64,
+    /// `|value − bound|` relative to the face's coefficient scale.
+    pub relative_margin: f64,
+}
+
+/// The piecewise rational C1 function F of Xu–Huang–Bajaj 2001 on the hull of a mesh.
+#[derive(Clone, Debug)]
+pub struct ApatchSurface {
+    hull: SimplicialHull,
+    faces: Vec<FaceFunction>,
+    /// Per hull edge: `[positive, negative]` edge cubics.
+    edges: Vec<[Option<EdgeCubic>; 2]>,
+    parameters: Vec<FreeParameter>,
+}
+
+/// Vertices of the face and of every face touching its vertices, with their gradients.
+fn neighbourhood(mesh: &TriMesh, grads: &[DVec3], f: usize) -> Vec<(DVec3, DVec3)> {
+    let topo = mesh.topology();
+    let mut verts: Vec<u32> = Vec::with_capacity(16);
+    for &v in &mesh.triangles()[f] {
+        for g in topo.vertex_faces(v) {
+            for &w in &mesh.triangles()[g as usize] {
+                if !verts.contains(&w) {
+                    verts.push(w);
+                }
+            }
+        }
+    }
+    verts.iter().map(|&v| (mesh.positions()[v as usize], grads[v as usize])).collect()
+}
+
+/// The base (apex value 0) shooting coefficients `c − f·(0, 0, 1/3, 1)` of (4.14).
+fn without_apex(c: [f64; 4], f: f64) -> [f64; 4] {
+    [c[0], c[1], c[2] - f / 3.0, c[3] - f]
+}
+
+/// Scale of a face's coefficients: `max |∇F| · longest edge`.
+fn coefficient_scale(p: [DVec3; 3], g: [DVec3; 3]) -> f64 {
+    let edge = (0..3).map(|a| p[a].distance(p[(a + 1) % 3])).fold(0.0, f64::max);
+    g.iter().map(|x| x.length()).fold(0.0, f64::max) * edge
+}
+
+impl ApatchSurface {
+    /// Builds the hull of `mesh` with unit vertex `normals` (the gradients of F at the
+    /// vertices) and the function F on it.
+    pub fn new(mesh: &TriMesh, normals: &[DVec3], options: &SurfaceOptions) -> Result<Self, ApatchError> {
+        let hull = SimplicialHull::from_mesh(mesh, normals, &options.hull)?;
+        let m = hull.mesh();
+        let grads = hull.normals();
+        let pos = m.positions();
+        let built: Vec<(FaceFunction, Vec<FreeParameter>)> = (0..m.face_count())
+            .into_par_iter()
+            .map(|f| build_face(&hull, f, grads, pos, options))
+            .collect::<Result<_, _>>()?;
+        let mut faces = Vec::with_capacity(built.len());
+        let mut parameters = Vec::new();
+        for (ff, params) in built {
+            faces.push(ff);
+            parameters.extend(params);
+        }
+        let edges = hull
+            .edges()
+            .par_iter()
+            .map(|e| -> Result<[Option<EdgeCubic>; 2], ApatchError> {
+                let (Some(fl), pi, pj) = (e.face_l, pos[e.vertices[0] as usize], pos[e.vertices[1] as usize]) else {
+                    return Ok([None, None]);
+                };
+                let mut out = [None, None];
+                for (slot, side, present) in [(0, Side::Positive, e.positive.is_some()), (1, Side::Negative, e.negative.is_some())] {
+                    if present {
+                        let k = faces[e.face_k as usize].edge_neighbour(side, pi, pj)?;
+                        let l = faces[fl as usize].edge_neighbour(side, pi, pj)?;
+                        out[slot] = Some(EdgeCubic::from_neighbours(pi, pj, &k, &l)?);
+                    }
+                }
+                Ok(out)
+            })
+            .collect::<Result<_, _>>()?;
+        Ok(ApatchSurface { hull, faces, edges, parameters })
+    }
+
+    /// The simplicial hull (with the possibly refined mesh F interpolates).
+    pub fn hull(&self) -> &SimplicialHull {
+        &self.hull
+    }
+
+    /// F on the tetrahedra of each face of the hull's mesh.
+    pub fn faces(&self) -> &[FaceFunction] {
+        &self.faces
+    }
+
+    /// `[positive, negative]` edge cubics of each hull edge.
+    pub fn edges(&self) -> &[[Option<EdgeCubic>; 2]] {
+        &self.edges
+    }
+
+    /// Every free parameter with its single-sheet bound.
+    pub fn free_parameters(&self) -> &[FreeParameter] {
+        &self.parameters
+    }
+}
+
+fn build_face(
+    hull: &SimplicialHull,
+    f: usize,
+    grads: &[DVec3],
+    pos: &[DVec3],
+    options: &SurfaceOptions,
+) -> Result<(FaceFunction, Vec<FreeParameter>), ApatchError> {
+    let m = hull.mesh();
+    let hf = &hull.faces()[f];
+    let tri = m.triangles()[f];
+    let p = tri.map(|v| pos[v as usize]);
+    let g = tri.map(|v| grads[v as usize]);
+    let v = [0, 1, 2].map(|a| VertexData { position: p[a], gradient: g[a] });
+    let mids = [0, 1, 2].map(|a| (g[(a + 1) % 3] + g[(a + 2) % 3]) * 0.5);
+    let scale = coefficient_scale(p, g).max(f64::MIN_POSITIVE);
+    let margin = options.sheet_margin * scale;
+    let quadric = match options.free_parameters {
+        FreeParameterRule::Quadric => Quadric::fit(&neighbourhood(m, grads, f))?,
+        FreeParameterRule::Linear => {
+            let n = (g[0] + g[1] + g[2]) / 3.0;
+            let c = (p[0] + p[1] + p[2]) / 3.0;
+            Quadric { a: glam::DMat3::ZERO, b: n, c: -n.dot(c) }
+        }
+    };
+    let param = |side: Side, value: f64, bound: f64| FreeParameter {
+        face: f,
+        side,
+        value,
+        bound,
+        relative_margin: (value - bound).abs() / scale,
+    };
+    match hf.convexity {
+        Convexity::ZeroConvex => Ok((FaceFunction::Planar, Vec::new())),
+        Convexity::PositiveConvex | Convexity::NegativeConvex => {
+            let side = if hf.convexity == Convexity::PositiveConvex { Side::Positive } else { Side::Negative };
+            let apex = hf.tetrahedron(side).expect("convex faces carry their tetrahedron").apex;
+            let sign = if side == Side::Positive { 1.0 } else { -1.0 };
+            let mut cubic = FaceCubic::new(v, apex, mids, quadric.value(apex))?;
+            let f0 = cubic.f0003();
+            // Bound for sign·F: base coefficients of the ray polynomial of sign·F.
+            let b = face_bound(options.bound_level, |q| {
+                without_apex(cubic.shooting_polynomial(q), f0).map(|x| sign * x)
+            });
+            let value = if b.is_finite() { (sign * f0).max(b + margin) * sign } else { f0 };
+            cubic.set_f0003(value);
+            Ok((FaceFunction::Convex { side, cubic }, vec![param(side, value, sign * b)]))
+        }
+        Convexity::Nonconvex => {
+            let apexes = [hf.u().expect("nonconvex: u"), hf.v().expect("nonconvex: v")];
+            let mut values = apexes.map(|a| quadric.value(a));
+            let first = SplitFace::new(v, &apexes, mids, &quadric, &values)?;
+            let mut bounds = [f64::NEG_INFINITY; 2];
+            for (s, sign) in [(0usize, 1.0), (1usize, -1.0)] {
+                let side = &first.sides[s];
+                let mut worst = f64::NEG_INFINITY;
+                // Rays from each sub-triangle [p_b p_c c] to this side's apex.
+                for a in 0..3 {
+                    let poly = &side.polys[a];
+                    worst = worst.max(face_bound(options.bound_level, |q| {
+                        let c = poly.restrict_to_segment([q[0], q[1], q[2], 0.0], [0.0, 0.0, 0.0, 1.0]);
+                        let c = [c.coeffs()[0], c.coeffs()[1], c.coeffs()[2], c.coeffs()[3]];
+                        without_apex(c, values[s]).map(|x| sign * x)
+                    }));
+                }
+                bounds[s] = worst;
+                if worst.is_finite() {
+                    values[s] = (sign * values[s]).max(worst + margin) * sign;
+                }
+            }
+            let split = SplitFace::new(v, &apexes, mids, &quadric, &values)?;
+            if split.constraint_residual > 1e-8 {
+                return Err(ApatchError::Degenerate(format!(
+                    "face {f}: the split-face constraints are inconsistent (residual {:e})",
+                    split.constraint_residual
+                )));
+            }
+            let params = vec![
+                param(Side::Positive, values[0], bounds[0]),
+                param(Side::Negative, values[1], -bounds[1]),
+            ];
+            Ok((FaceFunction::Split(split), params))
+        }
+    }
+}

@@ -1,0 +1,151 @@
+//! Local refinement of the mesh where hull tetrahedra intersect (§3.1).
+//!
+//! The paper "locally modifies the common edge by the Butterfly subdivision scheme … the local
+//! subdivision may take several steps". Splitting only the common edge does not work: it cuts
+//! the two faces into slivers that keep their far vertex and therefore their tall tetrahedra
+//! (on a coarse `sin·sin` height field the intersections never went away that way). So each
+//! face of an intersecting pair is *bisected by its longest edge*, with Rivara's longest-edge
+//! propagation path (LEPP): walk to the neighbour across the longest edge until an edge is
+//! longest in both its faces (or on the boundary), split that edge, and repeat until the face
+//! itself has been split. Every split puts the new vertex at the modified Butterfly edge point
+//! (`algesurf_mesh::butterfly_refine_edge`), splits the edge in both its faces (conforming, no
+//! T-junctions), and leaves all other vertices where they are. Longest-edge bisection keeps the
+//! triangles' angles bounded away from zero, so repeated rounds shrink the faces in every
+//! direction.
+
+use crate::HullError;
+use crate::simplicial::Refinement;
+use algesurf_mesh::{TriMesh, butterfly_refine_edge, loop_limit_normal};
+use glam::DVec3;
+use std::collections::HashMap;
+
+/// The mesh being refined, with its per-vertex and per-face bookkeeping.
+pub(crate) struct RefineState {
+    pub(crate) mesh: TriMesh,
+    pub(crate) normals: Vec<DVec3>,
+    pub(crate) face_map: Vec<u32>,
+    pub(crate) refinements: Vec<Refinement>,
+    pub(crate) input_vertex_count: usize,
+    /// For edges incident to an inserted vertex: the input edge whose refinement made them.
+    ancestor: HashMap<[u32; 2], [u32; 2]>,
+}
+
+pub(crate) fn key(a: u32, b: u32) -> [u32; 2] {
+    if a < b { [a, b] } else { [b, a] }
+}
+
+/// A total order on edges: longer first, ties broken by the vertex ids, so that the LEPP walk
+/// strictly climbs and terminates.
+fn edge_rank(p: &[DVec3], a: u32, b: u32) -> (f64, [u32; 2]) {
+    (p[a as usize].distance_squared(p[b as usize]), key(a, b))
+}
+
+fn longest_edge(mesh: &TriMesh, f: u32) -> [u32; 2] {
+    let t = mesh.triangles()[f as usize];
+    let p = mesh.positions();
+    let mut best = [t[0], t[1]];
+    for c in 1..3 {
+        let (a, b) = (t[c], t[(c + 1) % 3]);
+        let (r, s) = (edge_rank(p, a, b), edge_rank(p, best[0], best[1]));
+        if r.0 > s.0 || (r.0 == s.0 && r.1 > s.1) {
+            best = [a, b];
+        }
+    }
+    best
+}
+
+impl RefineState {
+    pub(crate) fn new(mesh: TriMesh, normals: Vec<DVec3>) -> RefineState {
+        RefineState {
+            input_vertex_count: mesh.vertex_count(),
+            face_map: (0..mesh.face_count() as u32).collect(),
+            mesh,
+            normals,
+            refinements: Vec::new(),
+            ancestor: HashMap::new(),
+        }
+    }
+
+    /// The input edge an edge of the current mesh comes from. An edge between two input
+    /// vertices is always an input edge (splits only create edges at the new vertex).
+    pub(crate) fn input_edge(&self, a: u32, b: u32) -> [u32; 2] {
+        self.ancestor.get(&key(a, b)).copied().unwrap_or(key(a, b))
+    }
+
+    /// Splits edge `a`–`b` at its Butterfly point and gives the new vertex its normal.
+    fn split(&mut self, a: u32, b: u32, round: usize) -> Result<(), HullError> {
+        let input_edge = self.input_edge(a, b);
+        let refined = butterfly_refine_edge(&self.mesh, a, b)?;
+        let m = refined.new_vertex;
+        self.face_map = refined
+            .face_parent
+            .iter()
+            .map(|&f| self.face_map[f as usize])
+            .collect();
+        self.mesh = refined.mesh;
+        self.normals.push(new_vertex_normal(&self.mesh, m));
+        let t = self.mesh.topology();
+        for &e in t.vertex_edges(m) {
+            self.ancestor
+                .insert(key(m, t.opposite_vertex(e, m)), input_edge);
+        }
+        self.refinements.push(Refinement {
+            round,
+            edge: [a, b],
+            input_edge,
+            new_vertex: m,
+        });
+        Ok(())
+    }
+
+    /// Bisects face `f` (current id) by longest-edge propagation; a no-op when `f` no longer
+    /// has the corners `corners` (an earlier bisection in this round split it already).
+    pub(crate) fn bisect_face(
+        &mut self,
+        f: u32,
+        corners: [u32; 3],
+        round: usize,
+    ) -> Result<(), HullError> {
+        // Each pass splits one edge; the path climbs a strict order, so a pass is finite, and
+        // each pass either splits `f` or a face on its path, which a few passes exhaust.
+        for _ in 0..64 {
+            if self.mesh.triangles().get(f as usize) != Some(&corners) {
+                return Ok(());
+            }
+            let mut cur = f;
+            let terminal = loop {
+                let [a, b] = longest_edge(&self.mesh, cur);
+                let t = self.mesh.topology();
+                let e = t.find_edge(a, b).expect("edge of a face exists");
+                match t.edge_faces(e).find(|&g| g != cur) {
+                    Some(g) if key_eq(longest_edge(&self.mesh, g), [a, b]) => break [a, b],
+                    Some(g) => cur = g,
+                    None => break [a, b],
+                }
+            };
+            self.split(terminal[0], terminal[1], round)?;
+        }
+        Ok(())
+    }
+}
+
+fn key_eq(x: [u32; 2], y: [u32; 2]) -> bool {
+    key(x[0], x[1]) == key(y[0], y[1])
+}
+
+/// The normal given to a vertex inserted by refinement: the unit normal of the limit surface of
+/// Loop's scheme on the refined mesh (the paper's choice of normals, §3), turned to the faces'
+/// side; the area-weighted normal where the Loop normal is undefined.
+fn new_vertex_normal(mesh: &TriMesh, v: u32) -> DVec3 {
+    let mut area = DVec3::ZERO;
+    for f in mesh.topology().vertex_faces(v) {
+        area += mesh.face_normal(f as usize);
+    }
+    let l = loop_limit_normal(mesh, v).unwrap_or(DVec3::ZERO);
+    let l = if l.length() > 0.0 && l.is_finite() {
+        l.normalize()
+    } else {
+        area.normalize_or_zero()
+    };
+    if l.dot(area) < 0.0 { -l } else { l }
+}

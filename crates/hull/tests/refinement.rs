@@ -1,0 +1,262 @@
+//! Intersecting tetrahedra: detection, local refinement, the face map, and the error when
+//! refinement cannot help. Open meshes.
+
+mod common;
+
+use algesurf_hull::{Convexity, Element, HullError, HullOptions, SimplicialHull};
+use common::{
+    brute_force_overlaps, check_apex_properties, height_field, icosphere, min_relative_measure,
+    wave,
+};
+use glam::{DVec2, DVec3};
+
+fn xy_area(a: DVec3, b: DVec3, c: DVec3) -> f64 {
+    0.5 * (b - a).truncate().perp_dot((c - a).truncate())
+}
+
+fn inside_xy(p: DVec2, t: [DVec3; 3]) -> bool {
+    (0..3).all(|k| {
+        (t[(k + 1) % 3] - t[k])
+            .truncate()
+            .perp_dot(p - t[k].truncate())
+            >= -1e-12
+    })
+}
+
+/// A coarse (2 × 2 grid, 8 triangles) sampling of `z = ½ sin 4x sin 4y` with exact normals:
+/// adjacent face tetrahedra intersect; local refinement separates them.
+#[test]
+fn coarse_wave_is_refined_until_disjoint() {
+    let (p, t, n) = height_field(2, wave(0.5, 4.0));
+    let detect = HullOptions {
+        max_refinement_rounds: 0,
+        check_intersections: false,
+        ..Default::default()
+    };
+    let raw = SimplicialHull::new(&p, &t, &n, &detect).unwrap();
+    let hits = raw.intersections();
+    assert!(!hits.is_empty());
+    assert_eq!(
+        hits.len(),
+        brute_force_overlaps(&raw, 1e-9),
+        "the BVH misses no pair"
+    );
+    // Among them two face tetrahedra of adjacent faces.
+    let adjacent = hits
+        .iter()
+        .any(|h| match (h.first.element, h.second.element) {
+            (Element::Face(f), Element::Face(g)) => {
+                let (a, b) = (&raw.faces()[f as usize], &raw.faces()[g as usize]);
+                a.edges.iter().any(|e| b.edges.contains(e))
+            }
+            _ => false,
+        });
+    assert!(adjacent, "{hits:?}");
+    // Detection only: the error names an input edge and faces.
+    let err = SimplicialHull::new(
+        &p,
+        &t,
+        &n,
+        &HullOptions {
+            max_refinement_rounds: 0,
+            ..Default::default()
+        },
+    )
+    .unwrap_err();
+    assert!(
+        matches!(err, HullError::UnresolvedIntersection { rounds: 0, .. }),
+        "{err}"
+    );
+
+    let hull = SimplicialHull::new(&p, &t, &n, &HullOptions::default()).unwrap();
+    assert!(!hull.refinements().is_empty());
+    assert!(hull.intersections().is_empty());
+    assert_eq!(brute_force_overlaps(&hull, 1e-9), 0);
+    assert!(min_relative_measure(&hull) > 1e-4);
+    check_apex_properties(&hull);
+    // Input vertices keep ids, positions and normals.
+    assert_eq!(hull.input_vertex_count(), p.len());
+    assert_eq!(&hull.mesh().positions()[..p.len()], p.as_slice());
+    assert_eq!(&hull.normals()[..p.len()], n.as_slice());
+    assert!(
+        hull.normals()[p.len()..]
+            .iter()
+            .all(|x| (x.length() - 1.0).abs() < 1e-12 && x.z > 0.0)
+    );
+    // The face map: seen from above, every refined face lies in its input face, and the
+    // refined faces tile each input face (the Butterfly rules reproduce linear functions, so
+    // new vertices sit above the midpoints of the grid edges).
+    let rp = hull.mesh().positions();
+    let mut area = vec![0.0; t.len()];
+    for (f, face) in hull.faces().iter().enumerate() {
+        let src = hull.face_map()[f];
+        assert_eq!(face.source_face, src);
+        let [a, b, c] = face.vertices.map(|v| rp[v as usize]);
+        let input = t[src as usize].map(|v| p[v as usize]);
+        assert!(
+            inside_xy(((a + b + c) / 3.0).truncate(), input),
+            "face {f} not in input face {src}"
+        );
+        area[src as usize] += xy_area(a, b, c);
+    }
+    for (f, tri) in t.iter().enumerate() {
+        let [a, b, c] = tri.map(|v| p[v as usize]);
+        assert!((area[f] - xy_area(a, b, c)).abs() < 1e-12, "face {f}");
+    }
+    for r in hull.refinements() {
+        assert!(r.input_edge.iter().all(|&v| (v as usize) < p.len()));
+        assert!(r.input_edge[0] < r.input_edge[1]);
+    }
+}
+
+/// A valley whose far vertices have normals tilted away from it: the positive tetrahedra of the
+/// two faces lean over the common edge into each other. A mild tilt is resolved by refinement;
+/// a strong one is not: refinement never changes the input normals, and after two rounds the
+/// refined faces around the far vertex no longer have its normal on their positive side. The
+/// error names the common edge (input ids), the input faces and the reason.
+#[test]
+fn valley_with_tilted_normals() {
+    let valley = |s: f64| {
+        let p = vec![
+            DVec3::new(-1.0, 0.0, 0.0),
+            DVec3::new(1.0, 0.0, 0.0),
+            DVec3::new(0.0, 1.0, 0.5),
+            DVec3::new(0.0, -1.0, 0.5),
+        ];
+        let n = vec![
+            DVec3::Z,
+            DVec3::Z,
+            DVec3::new(0.0, s, 1.0).normalize(),
+            DVec3::new(0.0, -s, 1.0).normalize(),
+        ];
+        (p, n)
+    };
+    let t = [[0, 1, 2], [1, 0, 3]];
+    for s in [1.0, 1.5] {
+        let (p, n) = valley(s);
+        let detect = HullOptions {
+            check_intersections: false,
+            ..Default::default()
+        };
+        let raw = SimplicialHull::new(&p, &t, &n, &detect).unwrap();
+        assert!(
+            raw.faces()
+                .iter()
+                .all(|f| f.convexity == Convexity::Nonconvex)
+        );
+        let hits = raw.intersections();
+        assert!(
+            hits.iter().any(
+                |h| h.first.element == Element::Face(0) && h.second.element == Element::Face(1)
+            )
+        );
+    }
+    let (p, n) = valley(1.0);
+    let hull = SimplicialHull::new(&p, &t, &n, &HullOptions::default()).unwrap();
+    assert!(hull.intersections().is_empty());
+    assert_eq!(brute_force_overlaps(&hull, 1e-9), 0);
+    check_apex_properties(&hull);
+    // With a round limit too small for it, the same case reports the edge.
+    let two = HullOptions {
+        max_refinement_rounds: 2,
+        ..Default::default()
+    };
+    match SimplicialHull::new(&p, &t, &n, &two) {
+        Err(HullError::UnresolvedIntersection {
+            rounds: 2, reason, ..
+        }) => assert!(reason.contains("limit")),
+        other => panic!("{other:?}"),
+    }
+    let (p, n) = valley(1.5);
+    match SimplicialHull::new(&p, &t, &n, &HullOptions::default()) {
+        Err(e @ HullError::UnresolvedIntersection { .. }) => {
+            let HullError::UnresolvedIntersection {
+                edge,
+                faces,
+                rounds,
+                ref reason,
+            } = e
+            else {
+                unreachable!()
+            };
+            assert_eq!(edge, [0, 1]);
+            assert_eq!(faces, [0, 1]);
+            assert!((1..=6).contains(&rounds));
+            assert!(reason.contains("not on the positive side"), "{reason}");
+            assert!(e.to_string().contains("edge (0, 1)"), "{e}");
+        }
+        other => panic!("expected an unresolved intersection, got {other:?}"),
+    }
+}
+
+/// An open mesh (the upper half of an icosphere): boundary edges are classified, marked, and
+/// carry no edge tetrahedra; the faces along the boundary keep their face tetrahedra, so the
+/// hull ends at the boundary.
+#[test]
+fn open_mesh_boundary_edges_have_no_edge_tetrahedra() {
+    let (p, f) = icosphere(2);
+    let cap: Vec<[u32; 3]> = f
+        .into_iter()
+        .filter(|t| t.iter().map(|&v| p[v as usize].z).sum::<f64>() > 0.5)
+        .collect();
+    let hull = SimplicialHull::new(&p, &cap, &p, &HullOptions::default()).unwrap();
+    let boundary: Vec<_> = hull.edges().iter().filter(|e| e.is_boundary()).collect();
+    assert!(!boundary.is_empty());
+    for e in &boundary {
+        assert_eq!(e.convexity, Convexity::PositiveConvex);
+        assert!(e.positive.is_none() && e.negative.is_none() && e.l.is_none());
+        let face = &hull.faces()[e.face_k as usize];
+        assert!(face.positive.is_some());
+        let [i, j] = e.vertices;
+        assert!((0..3).any(|c| face.vertices[c] == i && face.vertices[(c + 1) % 3] == j));
+    }
+    for e in hull.edges().iter().filter(|e| !e.is_boundary()) {
+        assert!(e.positive.is_some());
+    }
+    check_apex_properties(&hull);
+    assert!(hull.intersections().is_empty());
+}
+
+#[test]
+fn bad_input_is_reported() {
+    let (p, f) = icosphere(0);
+    let mut n = p.clone();
+    n[3] = -n[3];
+    match SimplicialHull::new(&p, &f, &n, &HullOptions::default()) {
+        Err(HullError::NormalNotOnPositiveSide {
+            vertex: 3,
+            face,
+            cosine,
+        }) => {
+            assert!(f[face as usize].contains(&3) && cosine < 0.0);
+        }
+        other => panic!("{other:?}"),
+    }
+    let mut g = f.clone();
+    g[0] = [g[0][0], g[0][2], g[0][1]];
+    assert!(matches!(
+        SimplicialHull::new(&p, &g, &p, &HullOptions::default()),
+        Err(HullError::InconsistentOrientation { .. })
+    ));
+    assert!(matches!(
+        SimplicialHull::new(&p, &f, &p[1..], &HullOptions::default()),
+        Err(HullError::NormalCount { .. })
+    ));
+    let mut z = p.clone();
+    z[0] = DVec3::ZERO;
+    assert!(matches!(
+        SimplicialHull::new(&p, &f, &z, &HullOptions::default()),
+        Err(HullError::BadVertexData {
+            vertex: 0,
+            what: "normal"
+        })
+    ));
+    let bad = HullOptions {
+        epsilon: 0.0,
+        ..Default::default()
+    };
+    assert!(matches!(
+        SimplicialHull::new(&p, &f, &p, &bad),
+        Err(HullError::InvalidOption(_))
+    ));
+}
