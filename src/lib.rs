@@ -9,6 +9,8 @@
 //! | [`polar`] | `algesurf-polar` | polar forms of Bézier curves and triangular patches |
 //! | [`mesh`] | `algesurf-mesh` | meshes with adjacency, validation, repair, normals, subdivision, BVH |
 //! | [`io`] | `algesurf-io` | OBJ, PLY, STL, OFF, glTF/GLB readers and writers |
+//! | [`hull`] | `algesurf-hull` | the outer simplicial hull of a mesh with normals (A-patches §3) |
+//! | [`apatch`] | `algesurf-apatch` | C1 rational A-patch surfaces over the hull, and their tessellation |
 //!
 //! ```
 //! use algesurf::bb::{BbPoly, Tetrahedron};
@@ -28,3 +30,5 @@ pub use algesurf_bb as bb;
 pub use algesurf_polar as polar;
 pub use algesurf_mesh as mesh;
 pub use algesurf_io as io;
+pub use algesurf_hull as hull;
+pub use algesurf_apatch as apatch;

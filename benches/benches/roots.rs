@@ -133,3 +133,30 @@ fn tmp_cbrt(bencher: Bencher) {
         black_box(i).cbrt()
     });
 }
+#[divan::bench]
+fn tmp_new_only(bencher: Bencher) {
+    let cs = lifted_cubics();
+    let mut i = 0;
+    bencher.bench_local(|| {
+        i = (i + 1) & 63;
+        algesurf::bb::roots::CardanoCubic::new(black_box(cs[i])).map(|c| c.delta)
+    });
+}
+#[divan::bench]
+fn tmp_baseline(bencher: Bencher) {
+    let cs = lifted_cubics();
+    let mut i = 0;
+    bencher.bench_local(|| {
+        i = (i + 1) & 63;
+        let c = black_box(cs[i]);
+        c[0] + c[3]
+    });
+}
+#[divan::bench]
+fn tmp_cos_acos(bencher: Bencher) {
+    let mut i = 0.0f64;
+    bencher.bench_local(|| {
+        i += 0.001;
+        (black_box(i).acos() / 3.0).cos()
+    });
+}

@@ -15,6 +15,7 @@ pub mod sheet;
 pub mod split;
 pub mod surface;
 pub mod tessellate;
+pub mod verify;
 
 pub use edge::{EdgeCubic, EdgeNeighbour};
 pub use error::ApatchError;
@@ -23,3 +24,4 @@ pub use quadric::Quadric;
 pub use split::{SplitFace, SplitSide};
 pub use surface::{ApatchSurface, FaceFunction, FreeParameter, FreeParameterRule, SurfaceOptions};
 pub use tessellate::{PatchKind, Tessellation};
+pub use verify::{ContinuityReport, InterpolationReport, Owner, Piece, PieceFunction, Worst};

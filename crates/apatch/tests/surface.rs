@@ -67,3 +67,58 @@ fn closed_input_gives_closed_manifold_output_with_its_euler_characteristic() {
     let kinds: std::collections::HashSet<PatchKind> = t.triangle_kind.iter().copied().collect();
     assert!(kinds.contains(&PatchKind::Face) && kinds.contains(&PatchKind::Edge));
 }
+
+#[test]
+fn torus_smooths_to_a_closed_manifold() {
+    use algesurf_mesh::shapes::torus;
+    use algesurf_mesh::{NormalMethod, vertex_normals};
+    let mesh = torus(16, 10, 1.5, 0.5);
+    let normals = vertex_normals(&mesh, NormalMethod::Loop).unwrap();
+    let s = ApatchSurface::new(&mesh, &normals, &SurfaceOptions::default()).unwrap();
+    let counts = s.faces().iter().fold([0usize; 3], |mut c, f| {
+        match f {
+            algesurf_apatch::FaceFunction::Planar => c[0] += 1,
+            algesurf_apatch::FaceFunction::Convex { .. } => c[1] += 1,
+            algesurf_apatch::FaceFunction::Split(_) => c[2] += 1,
+        }
+        c
+    });
+    println!("torus faces: planar {}, convex {}, split {}", counts[0], counts[1], counts[2]);
+    assert!(counts[2] > 0, "the torus's saddle region has nonconvex faces");
+    let t = s.tessellate(4, 4).unwrap();
+    assert!(t.missed_rays.is_empty(), "{} missed rays", t.missed_rays.len());
+    assert!(t.multiple_roots.is_empty(), "{} multiple roots", t.multiple_roots.len());
+    no_duplicate_positions(&t);
+    assert_eq!(closed_manifold_euler(&t), 0);
+}
+
+/// Theorem 4.1, measured: F is C1 across every interior facet of the hull, interpolates the
+/// vertices with the given normals, and the patch normals agree at every shared tessellation
+/// vertex — on a sphere (convex faces, rational terms) and a torus (split faces, nonconvex
+/// edges).
+#[test]
+fn c1_across_every_interior_facet_and_normals_agree() {
+    use algesurf_mesh::shapes::torus;
+    use algesurf_mesh::{NormalMethod, vertex_normals};
+    let meshes = [
+        ("icosphere(1)", icosphere(1)),
+        ("torus(12, 8)", torus(12, 8, 1.5, 0.6)),
+    ];
+    for (name, mesh) in meshes {
+        let normals = vertex_normals(&mesh, NormalMethod::Loop).unwrap();
+        let s = ApatchSurface::new(&mesh, &normals, &SurfaceOptions::default()).unwrap();
+        let c = s.continuity_report(6);
+        println!("{name}: {} facets, {} samples, value {:e} at {:?}, gradient {:e} at {:?}", c.facets, c.samples, c.value.value, c.value.at, c.gradient.value, c.gradient.at);
+        assert!(c.samples >= 16 * c.facets, "{name}: too few samples");
+        assert!(c.value.value <= 1e-10, "{name}: value mismatch {:e} at {:?}", c.value.value, c.value.at);
+        assert!(c.gradient.value <= 1e-8, "{name}: gradient mismatch {:e} at {:?}", c.gradient.value, c.gradient.at);
+        let i = s.interpolation_report();
+        println!("{name}: |F(p_i)| {:e}, normal angle {:e}", i.value.value, i.normal_angle.value);
+        assert!(i.value.value <= 1e-12, "{name}: F(p_i) = {:e} at vertex {:?}", i.value.value, i.value.at);
+        assert!(i.normal_angle.value <= 1e-9, "{name}: normal angle {:e} at vertex {:?}", i.normal_angle.value, i.normal_angle.at);
+        let t = s.tessellate(4, 4).unwrap();
+        let n = s.normal_agreement(&t);
+        println!("{name}: normal agreement {:e} at {:?}", n.value, n.at);
+        assert!(n.value <= 1e-8, "{name}: normals differ by {:e} rad at vertex {:?}", n.value, n.at);
+    }
+}

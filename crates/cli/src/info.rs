@@ -24,11 +24,12 @@ pub fn run(args: &InfoArgs) -> Result<(), Box<dyn std::error::Error>> {
     let mesh = algesurf_io::read(&args.input)?;
     let report = validate(&mesh);
     let repaired = repair(&mesh, &RepairOptions::default())?;
+    let after = validate(&repaired.mesh);
     let text = if args.json {
-        let value = to_json(&args.input, &mesh, &report, &repaired.report);
+        let value = to_json(&args.input, &mesh, &report, &repaired.report, &after);
         serde_json::to_string_pretty(&value)? + "\n"
     } else {
-        to_text(&args.input, &mesh, &report, &repaired.report)
+        to_text(&args.input, &mesh, &report, &repaired.report, &after)
     };
     // A closed pipe (`algesurf info big.ply | head`) is not an error.
     use std::io::Write;
@@ -38,77 +39,110 @@ pub fn run(args: &InfoArgs) -> Result<(), Box<dyn std::error::Error>> {
     }
 }
 
-fn genus_text(g: Option<u32>) -> String {
-    g.map_or_else(
-        || "n/a (not an orientable manifold)".into(),
-        |g| g.to_string(),
-    )
+/// At most this many components and findings of each kind are listed in the text report
+/// (`--json` lists all).
+const SHOW: usize = 20;
+
+fn plural(n: usize, one: &str, many: &str) -> String {
+    format!("{n} {}", if n == 1 { one } else { many })
 }
 
-/// The human-readable report.
+fn boundary_text(edges: usize, loops: usize) -> String {
+    if edges == 0 {
+        "none (closed)".into()
+    } else {
+        format!(
+            "{} in {}",
+            plural(edges, "edge", "edges"),
+            plural(loops, "loop", "loops")
+        )
+    }
+}
+
+fn polygon_name(k: usize) -> String {
+    match k {
+        0..=2 => format!("{k}-corner faces"),
+        3 => "triangles".into(),
+        4 => "quads".into(),
+        _ => format!("{k}-gons"),
+    }
+}
+
+/// The human-readable report. `after` is the validation of the mesh `convert --repair` would
+/// write.
 pub fn to_text(
     input: &std::path::Path,
     mesh: &algesurf_mesh::PolygonMesh,
     report: &ValidationReport,
     repairs: &RepairReport,
+    after: &ValidationReport,
 ) -> String {
     use std::fmt::Write;
     let mut s = String::new();
-    let _ = writeln!(s, "{}", input.display());
+    let _ = writeln!(s, "file: {}", input.display());
     let _ = writeln!(s, "vertices: {}", report.vertex_count);
-    let _ = writeln!(s, "faces: {}", report.face_count);
     let sizes: Vec<String> = report
         .polygon_sizes
         .iter()
-        .map(|(k, n)| format!("{k}-gons: {n}"))
+        .map(|&(k, n)| format!("{n} {}", polygon_name(k)))
         .collect();
-    let _ = writeln!(s, "polygon sizes: {}", sizes.join(", "));
+    let _ = writeln!(s, "faces: {} ({})", report.face_count, sizes.join(", "));
     let _ = writeln!(
         s,
         "normals from file: {}",
         if mesh.normals.is_some() { "yes" } else { "no" }
     );
-    for p in &mesh.vertex_properties {
-        let _ = writeln!(s, "vertex property: {}", p.name);
+    let names = |ps: &[algesurf_mesh::Property]| {
+        ps.iter().map(|p| p.name.as_str()).collect::<Vec<_>>().join(", ")
+    };
+    if !mesh.vertex_properties.is_empty() {
+        let _ = writeln!(s, "vertex properties: {}", names(&mesh.vertex_properties));
     }
-    for p in &mesh.face_properties {
-        let _ = writeln!(s, "face property: {}", p.name);
+    if !mesh.face_properties.is_empty() {
+        let _ = writeln!(s, "face properties: {}", names(&mesh.face_properties));
     }
+    let _ = writeln!(
+        s,
+        "Euler characteristic V-E+F: {} (used vertices, edges and faces of the whole mesh)",
+        report.euler_characteristic
+    );
+    let _ = writeln!(
+        s,
+        "boundary: {}",
+        boundary_text(report.boundary_edge_count(), report.boundary_loops.len())
+    );
     let _ = writeln!(s, "components: {}", report.components.len());
-    for (i, c) in report.components.iter().enumerate() {
+    for (i, c) in report.components.iter().enumerate().take(SHOW) {
+        let shape = match c.genus {
+            Some(g) => format!("genus {g}"),
+            None if !c.manifold => "non-manifold, no genus".into(),
+            None => "non-orientable, no genus".into(),
+        };
         let _ = writeln!(
             s,
-            "  component {i}: {} faces, {} vertices, {} edges, {} boundary edges, {} boundary loops, \
-             Euler characteristic {}, genus {}, {}{}{}",
-            c.faces.len(),
-            c.vertex_count,
-            c.edge_count,
-            c.boundary_edge_count,
-            c.boundary_loop_count,
+            "  {i}: {}, {}, {}; boundary: {}; V-E+F {}, {shape}{}",
+            plural(c.faces.len(), "face", "faces"),
+            plural(c.vertex_count, "vertex", "vertices"),
+            plural(c.edge_count, "edge", "edges"),
+            boundary_text(c.boundary_edge_count, c.boundary_loop_count),
             c.euler_characteristic,
-            genus_text(c.genus),
-            if c.manifold {
-                "manifold"
-            } else {
-                "non-manifold"
-            },
-            if c.orientable { ", orientable" } else { "" },
-            if c.consistently_oriented {
-                ", consistently oriented"
+            if c.manifold && !c.consistently_oriented {
+                ", inconsistently oriented"
             } else {
                 ""
             },
         );
     }
-    let _ = writeln!(s, "boundary loops: {}", report.boundary_loops.len());
-    let _ = writeln!(s, "boundary edges: {}", report.boundary_edge_count());
+    if report.components.len() > SHOW {
+        let _ = writeln!(s, "  ... and {} more", report.components.len() - SHOW);
+    }
     if report.findings.is_empty() {
         let _ = writeln!(s, "findings: none");
     } else {
         let counts: Vec<String> = report
             .counts()
             .iter()
-            .map(|(k, n)| format!("{k} {n}"))
+            .map(|(k, n)| format!("{n} {k}"))
             .collect();
         let _ = writeln!(
             s,
@@ -116,18 +150,42 @@ pub fn to_text(
             report.findings.len(),
             counts.join(", ")
         );
-        for f in &report.findings {
-            let _ = writeln!(s, "  {f}");
+        for (kind, n) in report.counts() {
+            for f in report
+                .findings
+                .iter()
+                .filter(|f| finding_kind(f) == kind)
+                .take(SHOW)
+            {
+                let _ = writeln!(s, "  {f}");
+            }
+            if n > SHOW {
+                let _ = writeln!(s, "  ... and {} more {kind} (see --json)", n - SHOW);
+            }
         }
     }
-    let _ = write!(s, "convert --repair would: ");
     if repairs.changed() {
-        let _ = writeln!(s);
+        let _ = writeln!(s, "convert --repair would:");
         for line in repairs.to_string().lines() {
             let _ = writeln!(s, "  {line}");
         }
+        let tri = after.polygon_sizes.iter().all(|&(k, _)| k == 3);
+        let _ = writeln!(
+            s,
+            "  giving {} vertices, {} {}, {}, V-E+F {}: {}",
+            after.vertex_count,
+            after.face_count,
+            if tri { "triangles" } else { "faces" },
+            plural(after.components.len(), "component", "components"),
+            after.euler_characteristic,
+            if after.is_valid() {
+                "valid".to_string()
+            } else {
+                format!("still {} findings", after.findings.len())
+            }
+        );
     } else {
-        let _ = writeln!(s, "change nothing");
+        let _ = writeln!(s, "convert --repair would: change nothing");
     }
     s
 }
@@ -169,6 +227,7 @@ pub fn to_json(
     mesh: &algesurf_mesh::PolygonMesh,
     report: &ValidationReport,
     repairs: &RepairReport,
+    after: &ValidationReport,
 ) -> serde_json::Value {
     use serde_json::json;
     let components: Vec<_> = report
@@ -202,6 +261,7 @@ pub fn to_json(
         "normals_from_file": mesh.normals.is_some(),
         "vertex_properties": mesh.vertex_properties.iter().map(|p| p.name.clone()).collect::<Vec<_>>(),
         "face_properties": mesh.face_properties.iter().map(|p| p.name.clone()).collect::<Vec<_>>(),
+        "euler_characteristic": report.euler_characteristic,
         "components": components,
         "boundary_loops": report.boundary_loops.len(),
         "boundary_edges": report.boundary_edge_count(),
@@ -215,9 +275,18 @@ pub fn to_json(
             "triangulated_faces": repairs.triangulated_faces,
             "dropped_degenerate_faces": repairs.dropped_degenerate_faces,
             "dropped_duplicate_faces": repairs.dropped_duplicate_faces,
+            "detached_non_manifold_edges": repairs.detached_non_manifold_edges,
+            "split_vertices": repairs.split_vertices,
             "flipped_faces": repairs.flipped_faces,
             "non_orientable_components": repairs.non_orientable_components,
             "dropped_unused_vertices": repairs.dropped_unused_vertices,
+            "result": {
+                "vertices": after.vertex_count,
+                "faces": after.face_count,
+                "components": after.components.len(),
+                "euler_characteristic": after.euler_characteristic,
+                "valid": after.is_valid(),
+            },
         },
     })
 }

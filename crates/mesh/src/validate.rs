@@ -223,8 +223,8 @@ impl fmt::Display for ValidationReport {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         writeln!(
             f,
-            "{} vertices, {} faces",
-            self.vertex_count, self.face_count
+            "{} vertices, {} faces, V-E+F = {}",
+            self.vertex_count, self.face_count, self.euler_characteristic
         )?;
         for (i, c) in self.components.iter().enumerate() {
             write!(

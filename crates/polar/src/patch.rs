@@ -2,8 +2,8 @@
 //! (thesis §2.7.3–2.7.4).
 
 use crate::{AffineFrame, IntervalFrame, PolarCurve, PolarError, PolarLabel};
+use algesurf_bb::BbPoly;
 use algesurf_bb::multi_index::{self, count, rank};
-use algesurf_bb::{BbPoly, Coeff};
 use glam::{DAffine2, DVec2, DVec3};
 
 /// Relative tolerance of [`PolarPatch::normal`]: the patch is called singular at a point where
@@ -280,14 +280,9 @@ impl PolarPatch {
     pub fn split4(&self) -> [PolarPatch; 4] {
         let frames = self.frame.midpoint_split();
         let nets = self.net.midpoint_split();
-        let mut i = 0;
-        frames.map(|frame| {
-            let p = PolarPatch {
-                frame,
-                net: nets[i].clone(),
-            };
-            i += 1;
-            p
+        std::array::from_fn(|i| PolarPatch {
+            frame: frames[i],
+            net: nets[i].clone(),
         })
     }
 
@@ -373,14 +368,8 @@ impl PolarPatch {
                 stack.push((sub, corners, depth + 1));
             }
         }
-        let verts = verts
-            .into_iter()
-            .map(|v| v.unwrap_or(DVec3::NAN))
-            .collect::<Vec<_>>();
-        debug_assert!(
-            verts.iter().all(|v| !v.is_nan())
-                || !self.net.coeffs().iter().all(|c| c.norm().is_finite())
-        );
+        // Every grid label is a corner of some leaf, so no NaN remains.
+        let verts = verts.into_iter().map(|v| v.unwrap_or(DVec3::NAN)).collect();
         (verts, tris)
     }
 }

@@ -206,7 +206,7 @@ fn random_net(f: AffineFrame, n: usize, seed: &[DVec3]) -> PolarPatch {
 // ---------------------------------------------------------------- properties
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(64))]
+    #![proptest_config(ProptestConfig { cases: 128, failure_persistence: None, ..ProptestConfig::default() })]
 
     #[test]
     fn blossom_diagonal_is_evaluation(p in patch(0..=6), w in inside(-0.2)) {
