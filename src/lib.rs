@@ -26,9 +26,9 @@
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
-pub use algesurf_bb as bb;
-pub use algesurf_polar as polar;
-pub use algesurf_mesh as mesh;
-pub use algesurf_io as io;
-pub use algesurf_hull as hull;
 pub use algesurf_apatch as apatch;
+pub use algesurf_bb as bb;
+pub use algesurf_hull as hull;
+pub use algesurf_io as io;
+pub use algesurf_mesh as mesh;
+pub use algesurf_polar as polar;

@@ -85,78 +85,36 @@ fn degree9(roots: &[(f64, usize)]) -> Vec<f64> {
 
 #[divan::bench]
 fn degree9_nine_simple_roots(bencher: Bencher) {
-    let b = degree9(&(1..10).map(|k| (k as f64 / 10.0 - 0.03, 1)).collect::<Vec<_>>());
+    let b = degree9(
+        &(1..10)
+            .map(|k| (k as f64 / 10.0 - 0.03, 1))
+            .collect::<Vec<_>>(),
+    );
     bencher.bench_local(|| find_roots(black_box(&b)));
 }
 
 #[divan::bench]
 fn degree9_double_root_and_simple_roots(bencher: Bencher) {
     let b = degree9(&[(0.15, 1), (0.35, 2), (0.6, 1), (0.8, 1)]);
-    let b: Vec<f64> = BbPoly::univariate(&b).unwrap().elevate(9 - (b.len() - 1)).into_coeffs();
+    let b: Vec<f64> = BbPoly::univariate(&b)
+        .unwrap()
+        .elevate(9 - (b.len() - 1))
+        .into_coeffs();
     bencher.bench_local(|| find_roots(black_box(&b)));
 }
 
 #[divan::bench]
 fn degree9_random_coefficients(bencher: Bencher) {
     let polys: Vec<Vec<f64>> = (0..64)
-        .map(|k| (0..10).map(|j| (((k * 31 + j * 17) % 89) as f64 / 89.0) * 2.0 - 1.0).collect())
+        .map(|k| {
+            (0..10)
+                .map(|j| (((k * 31 + j * 17) % 89) as f64 / 89.0) * 2.0 - 1.0)
+                .collect()
+        })
         .collect();
     let mut i = 0;
     bencher.bench_local(|| {
         i = (i + 1) & 63;
         find_roots(black_box(&polys[i]))
-    });
-}
-
-#[divan::bench]
-fn tmp_x1_only(bencher: Bencher) {
-    let cs = lifted_cubics();
-    let mut i = 0;
-    bencher.bench_local(|| {
-        i = (i + 1) & 63;
-        algesurf::bb::roots::CardanoCubic::new(black_box(cs[i])).map(|c| c.x1())
-    });
-}
-#[divan::bench]
-fn tmp_atan2_cos(bencher: Bencher) {
-    let mut i = 0.0f64;
-    bencher.bench_local(|| {
-        i += 0.001;
-        (black_box(i).atan2(0.3) / 3.0).cos()
-    });
-}
-#[divan::bench]
-fn tmp_cbrt(bencher: Bencher) {
-    let mut i = 0.0f64;
-    bencher.bench_local(|| {
-        i += 0.001;
-        black_box(i).cbrt()
-    });
-}
-#[divan::bench]
-fn tmp_new_only(bencher: Bencher) {
-    let cs = lifted_cubics();
-    let mut i = 0;
-    bencher.bench_local(|| {
-        i = (i + 1) & 63;
-        algesurf::bb::roots::CardanoCubic::new(black_box(cs[i])).map(|c| c.delta)
-    });
-}
-#[divan::bench]
-fn tmp_baseline(bencher: Bencher) {
-    let cs = lifted_cubics();
-    let mut i = 0;
-    bencher.bench_local(|| {
-        i = (i + 1) & 63;
-        let c = black_box(cs[i]);
-        c[0] + c[3]
-    });
-}
-#[divan::bench]
-fn tmp_cos_acos(bencher: Bencher) {
-    let mut i = 0.0f64;
-    bencher.bench_local(|| {
-        i += 0.001;
-        (black_box(i).acos() / 3.0).cos()
     });
 }

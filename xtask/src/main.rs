@@ -5,7 +5,11 @@
 //!   Khronos glTF validator; our OBJ/PLY/STL/OFF load in trimesh with the right counts).
 //! * `dist`: release build of the `algesurf` binary into `dist/` with a SHA-256 file.
 //! * `bench [NAME]`: the divan benchmarks (`cargo bench -p algesurf-benches`).
+//! * `bench smooth [--mesh PATH] [--no-divan]`: the `smooth` divan benchmarks, then the bunny
+//!   (or PATH) smoothed by the release `algesurf smooth` and timed against libigl's Loop
+//!   subdivision in the same run (see [`bench_peers`]).
 
+mod bench_peers;
 mod interop;
 
 use sha2::{Digest, Sha256};
@@ -44,7 +48,14 @@ fn ci() -> Result<()> {
     fmt.args(["fmt", "--all", "--check"]);
     run(fmt)?;
     let mut clippy = cargo();
-    clippy.args(["clippy", "--workspace", "--all-targets", "--", "-D", "warnings"]);
+    clippy.args([
+        "clippy",
+        "--workspace",
+        "--all-targets",
+        "--",
+        "-D",
+        "warnings",
+    ]);
     run(clippy)?;
     let mut test = cargo();
     test.args(["test", "--workspace"]);
@@ -92,12 +103,19 @@ fn dist() -> Result<()> {
 }
 
 fn bench(args: &[String]) -> Result<()> {
-    let mut b = cargo();
-    b.args(["bench", "-p", "algesurf-benches"]);
-    if let Some(name) = args.first() {
-        b.args(["--bench", name]);
+    let skip_divan = args.iter().any(|a| a == "--no-divan");
+    if !skip_divan {
+        let mut b = cargo();
+        b.args(["bench", "-p", "algesurf-benches"]);
+        if let Some(name) = args.first().filter(|a| !a.starts_with("--")) {
+            b.args(["--bench", name]);
+        }
+        run(b)?;
     }
-    run(b)
+    if args.first().map(String::as_str) == Some("smooth") {
+        bench_peers::smooth(&root(), &args[1..])?;
+    }
+    Ok(())
 }
 
 fn main() -> ExitCode {
@@ -107,7 +125,9 @@ fn main() -> ExitCode {
         Some("dist") => dist(),
         Some("bench") => bench(&args[1..]),
         _ => {
-            eprintln!("usage: cargo xtask <ci | dist | bench [bb|roots]>");
+            eprintln!(
+                "usage: cargo xtask <ci | dist | bench [bb|roots|smooth [--mesh PATH] [--no-divan]]>"
+            );
             return ExitCode::from(2);
         }
     };

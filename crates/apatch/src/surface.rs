@@ -1,6 +1,8 @@
 //! The whole C1 function F over the simplicial hull of a mesh, and its free parameters.
 
-use crate::sheet::face_bound;
+use crate::sheet::{face_bound, lifted_b_min};
+use algesurf_bb::BbPoly;
+use std::collections::HashMap;
 use crate::{ApatchError, EdgeCubic, EdgeNeighbour, FaceCubic, Quadric, SplitFace, VertexData};
 use algesurf_hull::{Convexity, HullOptions, Side, SimplicialHull};
 use algesurf_mesh::TriMesh;
@@ -32,8 +34,13 @@ pub struct SurfaceOptions {
     /// strictly, and a margin of that size keeps the smallest root well separated from the
     /// double root that appears at `b = b_min`.
     pub sheet_margin: f64,
-    /// Grid level on each face at which the single-sheet bound is evaluated. Default `8`.
+    /// Grid level on each face (and edge) at which the single-sheet bounds are evaluated.
+    /// Default `8`.
     pub bound_level: usize,
+    /// Repair vertex normals the hull cannot use ([`algesurf_mesh::condition_normals`] with
+    /// [`algesurf_mesh::DEFAULT_MIN_NORMAL_COSINE`]). Default `true`; the changed vertices are listed by
+    /// [`ApatchSurface::adjusted_normals`].
+    pub condition_normals: bool,
 }
 
 impl Default for SurfaceOptions {
@@ -43,6 +50,7 @@ impl Default for SurfaceOptions {
             hull: HullOptions::default(),
             sheet_margin: 1e-2,
             bound_level: 8,
+            condition_normals: true,
         }
     }
 }
@@ -92,6 +100,8 @@ pub struct FreeParameter {
     pub bound: f64,
     /// `|value − bound|` relative to the face's coefficient scale.
     pub relative_margin: f64,
+    /// The face's coefficient scale `max |∇F| · longest edge` that margins are relative to.
+    pub scale: f64,
 }
 
 /// The piecewise rational C1 function F of Xu–Huang–Bajaj 2001 on the hull of a mesh.
@@ -102,6 +112,20 @@ pub struct ApatchSurface {
     /// Per hull edge: `[positive, negative]` edge cubics.
     edges: Vec<[Option<EdgeCubic>; 2]>,
     parameters: Vec<FreeParameter>,
+    adjusted_normals: Vec<u32>,
+}
+
+/// `τ_apex²` as a cubic on a tetrahedron with the apex last: 1/3 on the layer λ_3 = 2, 1 at the
+/// apex. Raising a face side's apex value by δ adds exactly δ·τ_apex² to its pieces: for a convex
+/// face through (4.14); for a split face because τ_apex² meets every hard constraint (zero value
+/// and gradient on the face plane, C1 everywhere) with 1 at the apex, so the constrained
+/// least-squares solution moves by exactly that.
+fn apex_square() -> BbPoly<f64, 4> {
+    BbPoly::from_fn(3, |l| match l[3] {
+        2 => 1.0 / 3.0,
+        3 => 1.0,
+        _ => 0.0,
+    })
 }
 
 /// Vertices of the face and of every face touching its vertices, with their gradients.
@@ -135,7 +159,12 @@ impl ApatchSurface {
     /// Builds the hull of `mesh` with unit vertex `normals` (the gradients of F at the
     /// vertices) and the function F on it.
     pub fn new(mesh: &TriMesh, normals: &[DVec3], options: &SurfaceOptions) -> Result<Self, ApatchError> {
-        let hull = SimplicialHull::from_mesh(mesh, normals, &options.hull)?;
+        let (normals, adjusted_normals) = if options.condition_normals {
+            algesurf_mesh::condition_normals(mesh, normals, algesurf_mesh::DEFAULT_MIN_NORMAL_COSINE)
+        } else {
+            (normals.to_vec(), Vec::new())
+        };
+        let hull = SimplicialHull::from_mesh(mesh, &normals, &options.hull)?;
         let m = hull.mesh();
         let grads = hull.normals();
         let pos = m.positions();
@@ -149,25 +178,40 @@ impl ApatchSurface {
             faces.push(ff);
             parameters.extend(params);
         }
-        let edges = hull
-            .edges()
-            .par_iter()
-            .map(|e| -> Result<[Option<EdgeCubic>; 2], ApatchError> {
-                let (Some(fl), pi, pj) = (e.face_l, pos[e.vertices[0] as usize], pos[e.vertices[1] as usize]) else {
-                    return Ok([None, None]);
-                };
-                let mut out = [None, None];
-                for (slot, side, present) in [(0, Side::Positive, e.positive.is_some()), (1, Side::Negative, e.negative.is_some())] {
-                    if present {
-                        let k = faces[e.face_k as usize].edge_neighbour(side, pi, pj)?;
-                        let l = faces[fl as usize].edge_neighbour(side, pi, pj)?;
-                        out[slot] = Some(EdgeCubic::from_neighbours(pi, pj, &k, &l)?);
+        let edges = build_edges(&hull, &faces)?;
+        // Step 6, second part: the edge A-patches need their own lower bound B_ijkl on a common
+        // increment of the two faces' apex values; raise each face side by the largest
+        // increment its edges need (raising only helps every other ray, Lemma 2.3).
+        let raise = edge_increments(&hull, &faces, &edges, options)?;
+        if raise.is_empty() {
+            return Ok(ApatchSurface { hull, faces, edges, parameters, adjusted_normals });
+        }
+        let sq = apex_square();
+        for (&(f, side), &delta) in &raise {
+            let sign = if side == Side::Positive { 1.0 } else { -1.0 };
+            match &mut faces[f] {
+                FaceFunction::Convex { cubic, .. } => cubic.set_f0003(cubic.f0003() + sign * delta),
+                FaceFunction::Split(split) => {
+                    let s = if side == Side::Positive { 0 } else { 1 };
+                    for poly in &mut split.sides[s].polys {
+                        *poly = poly.add_poly(&sq.scale(sign * delta));
                     }
                 }
-                Ok(out)
-            })
-            .collect::<Result<_, _>>()?;
-        Ok(ApatchSurface { hull, faces, edges, parameters })
+                FaceFunction::Planar => {}
+            }
+            for p in parameters.iter_mut().filter(|p| p.face == f && p.side == side) {
+                p.value += sign * delta;
+                p.relative_margin = (p.value - p.bound).abs() / p.scale;
+            }
+        }
+        let edges = build_edges(&hull, &faces)?;
+        Ok(ApatchSurface { hull, faces, edges, parameters, adjusted_normals })
+    }
+
+    /// Vertices whose normals were changed so the hull could use them (see
+    /// [`SurfaceOptions::condition_normals`]), in the hull mesh's numbering.
+    pub fn adjusted_normals(&self) -> &[u32] {
+        &self.adjusted_normals
     }
 
     /// The simplicial hull (with the possibly refined mesh F interpolates).
@@ -221,6 +265,7 @@ fn build_face(
         value,
         bound,
         relative_margin: (value - bound).abs() / scale,
+        scale,
     };
     match hf.convexity {
         Convexity::ZeroConvex => Ok((FaceFunction::Planar, Vec::new())),
@@ -241,10 +286,17 @@ fn build_face(
         Convexity::Nonconvex => {
             let apexes = [hf.u().expect("nonconvex: u"), hf.v().expect("nonconvex: v")];
             let mut values = apexes.map(|a| quadric.value(a));
-            let first = SplitFace::new(v, &apexes, mids, &quadric, &values)?;
+            let mut split = SplitFace::new(v, &apexes, mids, &quadric, &values)?;
+            if split.constraint_residual > 1e-8 {
+                return Err(ApatchError::Degenerate(format!(
+                    "face {f}: the split-face constraints are inconsistent (residual {:e})",
+                    split.constraint_residual
+                )));
+            }
             let mut bounds = [f64::NEG_INFINITY; 2];
+            let sq = apex_square();
             for (s, sign) in [(0usize, 1.0), (1usize, -1.0)] {
-                let side = &first.sides[s];
+                let side = &split.sides[s];
                 let mut worst = f64::NEG_INFINITY;
                 // Rays from each sub-triangle [p_b p_c c] to this side's apex.
                 for a in 0..3 {
@@ -256,16 +308,15 @@ fn build_face(
                     }));
                 }
                 bounds[s] = worst;
-                if worst.is_finite() {
-                    values[s] = (sign * values[s]).max(worst + margin) * sign;
+                if worst.is_finite() && sign * values[s] < worst + margin {
+                    // Raise the apex value; the solution moves by exactly δ·τ_apex² (see
+                    // `apex_square`), so no second solve is needed.
+                    let delta = worst + margin - sign * values[s];
+                    values[s] += sign * delta;
+                    for poly in &mut split.sides[s].polys {
+                        *poly = poly.add_poly(&sq.scale(sign * delta));
+                    }
                 }
-            }
-            let split = SplitFace::new(v, &apexes, mids, &quadric, &values)?;
-            if split.constraint_residual > 1e-8 {
-                return Err(ApatchError::Degenerate(format!(
-                    "face {f}: the split-face constraints are inconsistent (residual {:e})",
-                    split.constraint_residual
-                )));
             }
             let params = vec![
                 param(Side::Positive, values[0], bounds[0]),
@@ -274,4 +325,88 @@ fn build_face(
             Ok((FaceFunction::Split(split), params))
         }
     }
+}
+
+fn build_edges(hull: &SimplicialHull, faces: &[FaceFunction]) -> Result<Vec<[Option<EdgeCubic>; 2]>, ApatchError> {
+    let pos = hull.mesh().positions();
+    hull.edges()
+        .par_iter()
+        .map(|e| -> Result<[Option<EdgeCubic>; 2], ApatchError> {
+            let (Some(fl), pi, pj) = (e.face_l, pos[e.vertices[0] as usize], pos[e.vertices[1] as usize]) else {
+                return Ok([None, None]);
+            };
+            let mut out = [None, None];
+            for (slot, side, present) in [(0, Side::Positive, e.positive.is_some()), (1, Side::Negative, e.negative.is_some())] {
+                if present {
+                    let k = faces[e.face_k as usize].edge_neighbour(side, pi, pj)?;
+                    let l = faces[fl as usize].edge_neighbour(side, pi, pj)?;
+                    out[slot] = Some(EdgeCubic::from_neighbours(pi, pj, &k, &l)?);
+                }
+            }
+            Ok(out)
+        })
+        .collect()
+}
+
+/// Per face side, the increment of its apex value that its edges need (Step 6 with
+/// [`lifted_b_min`]), only where positive.
+fn edge_increments(
+    hull: &SimplicialHull,
+    faces: &[FaceFunction],
+    edges: &[[Option<EdgeCubic>; 2]],
+    options: &SurfaceOptions,
+) -> Result<HashMap<(usize, Side), f64>, ApatchError> {
+    let pos = hull.mesh().positions();
+    let sq = apex_square();
+    let needs: Vec<Vec<((usize, Side), f64)>> = hull
+        .edges()
+        .par_iter()
+        .enumerate()
+        .map(|(e, he)| -> Result<Vec<((usize, Side), f64)>, ApatchError> {
+            let Some(fl) = he.face_l else { return Ok(Vec::new()) };
+            let (pi, pj) = (pos[he.vertices[0] as usize], pos[he.vertices[1] as usize]);
+            let mut out = Vec::new();
+            for (slot, side, sign) in [(0usize, Side::Positive, 1.0), (1usize, Side::Negative, -1.0)] {
+                let Some(cubic) = &edges[e][slot] else { continue };
+                let k = faces[he.face_k as usize].edge_neighbour(side, pi, pj)?;
+                let l = faces[fl as usize].edge_neighbour(side, pi, pj)?;
+                let lift = EdgeCubic::from_neighbours(
+                    pi,
+                    pj,
+                    &EdgeNeighbour { tet: k.tet, poly: sq.clone() },
+                    &EdgeNeighbour { tet: l.tet, poly: sq.clone() },
+                )?;
+                let margin = options.sheet_margin * cubic.polynomial().max_coeff_norm();
+                let two_sided = edges[e][0].is_some() && edges[e][1].is_some();
+                let level = options.bound_level.max(2);
+                let mut need = f64::NEG_INFINITY;
+                for i in 1..level {
+                    for j in 0..=level {
+                        let (x, y) = (i as f64 / level as f64, j as f64 / level as f64);
+                        let c = cubic.shooting_polynomial(x, y);
+                        // On a two-sided edge each side serves the rays where F(q) has its sign.
+                        if two_sided && sign * c[0] > 0.0 {
+                            continue;
+                        }
+                        let base = c.map(|v| sign * v);
+                        if let Some(b) = lifted_b_min(base, lift.shooting_polynomial(x, y)) {
+                            need = need.max(b);
+                        }
+                    }
+                }
+                if need > -margin {
+                    let delta = need + margin;
+                    out.push(((he.face_k as usize, side), delta));
+                    out.push(((fl as usize, side), delta));
+                }
+            }
+            Ok(out)
+        })
+        .collect::<Result<_, _>>()?;
+    let mut raise: HashMap<(usize, Side), f64> = HashMap::new();
+    for (key, d) in needs.into_iter().flatten() {
+        let e = raise.entry(key).or_insert(0.0);
+        *e = e.max(d);
+    }
+    Ok(raise)
 }

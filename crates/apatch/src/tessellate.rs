@@ -76,7 +76,11 @@ fn root(c: [f64; 4], sign: f64) -> Option<(f64, bool)> {
 /// Evaluates the ray from `q` to `apex` with shooting coefficients `c` (F along the ray) for
 /// the side `sign` (+1: F ≤ 0 at q, looking for F = 0 towards the apex where F > 0).
 fn shoot(q: DVec3, apex: DVec3, c: [f64; 4], sign: f64, grad: impl Fn(DVec3) -> DVec3) -> RayPoint {
-    if c[0] == 0.0 {
+    // |F(q)| within the rounding of its own evaluation (a few ε times the coefficients it is
+    // combined from): the ray starts on the surface. Treating it as t = 0 keeps rays from a
+    // mesh edge where F vanishes identical from every side.
+    let scale = c.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    if c[0] == 0.0 || c[0].abs() <= 8.0 * f64::EPSILON * scale {
         return RayPoint { position: q, normal: grad(q).normalize_or_zero(), at_start: true, missed: false, multiple: false };
     }
     match root(c, sign) {
@@ -128,14 +132,16 @@ impl ApatchSurface {
                 let a = (0..3).min_by(|&i, &j| alpha[i].total_cmp(&alpha[j])).expect("three");
                 let (b, cc) = ((a + 1) % 3, (a + 2) % 3);
                 let tau = [alpha[b] - alpha[a], alpha[cc] - alpha[a], 3.0 * alpha[a], 0.0];
-                let up = &split.sides[0];
-                let f_q = up.polys[a].eval(tau);
-                let (s, sign) = if f_q <= 0.0 { (0, 1.0) } else { (1, -1.0) };
-                let side = &split.sides[s];
-                let poly = &side.polys[a];
-                let tet = &side.tets[a];
-                let c = poly.restrict_to_segment(tau, [0.0, 0.0, 0.0, 1.0]);
-                let c = [c.coeffs()[0], c.coeffs()[1], c.coeffs()[2], c.coeffs()[3]];
+                // (4.6): towards u where F(q) ≤ 0, else towards v. The side is decided by the
+                // same b_0 = F(q) the ray uses, so rounding cannot send a ray the wrong way.
+                let ray = |s: usize| {
+                    let c = split.sides[s].polys[a].restrict_to_segment(tau, [0.0, 0.0, 0.0, 1.0]);
+                    [c.coeffs()[0], c.coeffs()[1], c.coeffs()[2], c.coeffs()[3]]
+                };
+                let c_up = ray(0);
+                let (s, sign, c) = if c_up[0] <= 0.0 { (0, 1.0, c_up) } else { (1, -1.0, ray(1)) };
+                let poly = &split.sides[s].polys[a];
+                let tet = &split.sides[s].tets[a];
                 shoot(q, tet.vertex(3), c, sign, |x| poly.gradient_at(tet, x))
             }
         }
@@ -149,16 +155,20 @@ impl ApatchSurface {
         let pj = m.positions()[he.vertices[1] as usize];
         let q = pi * x + pj * (1.0 - x);
         let [pos, neg] = &self.edges()[e];
-        let f_q = pos.as_ref().or(neg.as_ref()).map_or(0.0, |c| c.shooting_polynomial(x, y)[0]);
-        let (cubic, sign) = match (pos, neg) {
-            (Some(p), Some(n)) => if f_q <= 0.0 { (p, 1.0) } else { (n, -1.0) },
-            (Some(p), None) => (p, 1.0),
-            (None, Some(n)) => (n, -1.0),
+        // (4.7): positive edge tetrahedron where F(q) ≤ 0, else negative; decided by the b_0
+        // of the ray itself.
+        let (cubic, sign, c) = match (pos, neg) {
+            (Some(p), Some(n)) => {
+                let cp = p.shooting_polynomial(x, y);
+                if cp[0] <= 0.0 { (p, 1.0, cp) } else { (n, -1.0, n.shooting_polynomial(x, y)) }
+            }
+            (Some(p), None) => (p, 1.0, p.shooting_polynomial(x, y)),
+            (None, Some(n)) => (n, -1.0, n.shooting_polynomial(x, y)),
             (None, None) => unreachable!("edge patches exist only where edge tetrahedra do"),
         };
         let t = cubic.tetrahedron();
         let target = t.vertex(3) * y + t.vertex(0) * (1.0 - y);
-        shoot(q, target, cubic.shooting_polynomial(x, y), sign, |p| cubic.value_gradient(p).1)
+        shoot(q, target, c, sign, |p| cubic.value_gradient(p).1)
     }
 
     /// Triangulates the surface: face patches at resolution `n` (n + 1 points per edge), edge

@@ -122,3 +122,70 @@ fn c1_across_every_interior_facet_and_normals_agree() {
         assert!(n.value <= 1e-8, "{name}: normals differ by {:e} rad at vertex {:?}", n.value, n.at);
     }
 }
+
+/// The two triangles of §6 with the normals of Figs. 6, 7, 9 and 10: classified as the paper
+/// says, and F joins C1 with every patch single sheeted.
+#[test]
+fn papers_worked_configurations_are_classified_and_join_c1() {
+    use algesurf_apatch::FaceFunction;
+    let p = vec![DVec3::new(-2.0, 0.0, 0.0), DVec3::new(2.0, 0.0, 0.0), DVec3::new(0.0, 4.0, -1.0), DVec3::new(0.0, -4.0, -1.0)];
+    let tris = vec![[0u32, 1, 2], [1, 0, 3]];
+    let n = |v: [f64; 3]| DVec3::from_array(v).normalize();
+    // (figure, p4.z, normals, expected kinds of [p1p2p3], [p1p2p4]: 0 planar, 1 convex, 2 split)
+    let cases = [
+        ("Fig. 6", -1.0, [n([-1.0, 0.0, 1.0]), n([1.0, 0.0, 1.0]), n([0.0, 1.0, 1.0]), n([0.0, -1.0, 1.0])], [1, 1]),
+        ("Fig. 7", -1.0, [n([-1.0, 0.0, 1.0]), n([1.0, 0.0, 1.0]), n([0.0, 1.0, 1.5]), n([0.0, 1.0, 1.5])], [1, 2]),
+        ("Fig. 9", -1.0, [n([1.0, 0.0, 1.0]), n([1.0, 0.0, 1.0]), n([0.0, -1.0, 1.5]), n([0.0, 1.0, 1.5])], [2, 2]),
+        ("Fig. 10", 0.0, [n([0.0, 0.0, 1.0]), n([0.0, 0.0, 1.0]), n([0.0, -1.0, 1.5]), n([0.0, 0.0, 1.0])], [2, 0]),
+    ];
+    for (fig, z4, normals, kinds) in cases {
+        let mut pos = p.clone();
+        pos[3].z = z4;
+        let mesh = TriMesh::new(pos, tris.clone()).unwrap();
+        let s = ApatchSurface::new(&mesh, &normals, &SurfaceOptions::default()).unwrap();
+        let got: Vec<usize> = s.faces().iter().map(|f| match f {
+            FaceFunction::Planar => 0,
+            FaceFunction::Convex { .. } => 1,
+            FaceFunction::Split(_) => 2,
+        }).collect();
+        assert_eq!(got, kinds.to_vec(), "{fig}");
+        let c = s.continuity_report(6);
+        assert!(c.value.value <= 1e-10 && c.gradient.value <= 1e-8, "{fig}: {c:?}");
+        let i = s.interpolation_report();
+        assert!(i.value.value <= 1e-12 && i.normal_angle.value <= 1e-9, "{fig}: {i:?}");
+        let t = s.tessellate(8, 8).unwrap();
+        assert!(t.missed_rays.is_empty() && t.multiple_roots.is_empty(), "{fig}: {} missed, {} multiple", t.missed_rays.len(), t.multiple_roots.len());
+        let na = s.normal_agreement(&t);
+        assert!(na.value <= 1e-8, "{fig}: normals differ by {:e}", na.value);
+    }
+}
+
+/// Plane recovery (§1, Theorem 4.1): where all three normals are perpendicular to a face, its
+/// patch is that face — on a flat grid every output vertex lies in the plane.
+#[test]
+fn plane_is_recovered_where_normals_are_perpendicular() {
+    let mesh = algesurf_mesh::shapes::grid(4, 3);
+    let normals = vec![DVec3::Z; mesh.vertex_count()];
+    let s = ApatchSurface::new(&mesh, &normals, &SurfaceOptions::default()).unwrap();
+    assert!(s.faces().iter().all(|f| matches!(f, algesurf_apatch::FaceFunction::Planar)));
+    let t = s.tessellate(4, 4).unwrap();
+    assert!(t.positions.iter().all(|p| p.z == 0.0));
+    assert!(t.triangle_kind.iter().all(|k| *k == PatchKind::Planar));
+}
+
+/// Theorem 4.2 / Corollary 4.3 on an ellipsoid: with the gradients of Q = xᵀAx − 1 at the
+/// vertices (not unit normals: READING-NOTES explains why their magnitudes matter), the default
+/// free parameters reproduce the ellipsoid.
+#[test]
+fn ellipsoid_is_recovered_from_its_gradients() {
+    let sphere = icosphere(2);
+    let axes = DVec3::new(1.5, 1.0, 0.7);
+    let pos: Vec<DVec3> = sphere.positions().iter().map(|p| *p * axes).collect();
+    let grads: Vec<DVec3> = pos.iter().map(|p| *p / (axes * axes)).collect(); // ∇(Q/2)
+    let mesh = TriMesh::new(pos, sphere.triangles().to_vec()).unwrap();
+    let s = ApatchSurface::new(&mesh, &grads, &SurfaceOptions::default()).unwrap();
+    let t = s.tessellate(6, 6).unwrap();
+    assert!(t.missed_rays.is_empty() && t.multiple_roots.is_empty());
+    let worst = t.positions.iter().map(|p| ((*p / axes).length() - 1.0).abs()).fold(0.0, f64::max);
+    assert!(worst <= 1e-10, "max |‖p/axes‖ − 1| = {worst:e}");
+}

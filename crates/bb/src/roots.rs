@@ -253,17 +253,21 @@ pub(crate) fn end_multiplicities(b: &[f64], e0: f64) -> (usize, usize) {
 /// Bernstein polynomial `c` in local `u ∈ [0, 1]`, given `c_0 · c_n < 0`. Newton steps are taken
 /// only while they stay strictly inside the current bracket and at least halve the previous
 /// step; otherwise the bracket is bisected, so the bracket shrinks by at least half every two
-/// iterations and the loop ends. `resolution(u)` is the smallest meaningful step at `u`.
+/// iterations and the loop ends. `resolution(u)` is the smallest meaningful step at `u`; the
+/// loop also ends once `|p(u)|` is below the rounding bound of its evaluation.
 pub(crate) fn bracketed_root(c: &[f64], resolution: impl Fn(f64) -> f64) -> f64 {
     let n = c.len() - 1;
     let f_lo = c[0];
+    // De Casteljau's rounding error bound at any u ∈ [0, 1] (see `eval_with_derivative`): once
+    // |f| is below it, the sign of f — and so any further step — is noise.
+    let noise = 2.0 * n as f64 * UNIT_ROUNDOFF * c.iter().fold(0.0f64, |m, x| m.max(x.abs()));
     let (mut a, mut b) = (0.0f64, 1.0f64);
     // Start at the zero of the chord (regula falsi), inside (0, 1) because c_0 c_n < 0.
     let mut u = (c[0] / (c[0] - c[n])).clamp(0.0, 1.0);
     let mut prev_step = 1.0f64;
     for _ in 0..200 {
         let (f, df) = eval_with_derivative(c, u);
-        if f == 0.0 {
+        if f.abs() <= noise {
             return u;
         }
         if (f < 0.0) == (f_lo < 0.0) {

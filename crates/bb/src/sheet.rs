@@ -1,1 +1,247 @@
-//! (being written)
+//! Single-sheetedness: Lemma 2.3 of Xu–Huang–Bajaj 2001 (the lower bound `b_min` of the free
+//! coefficient that makes the smallest root of the lifted cubic simple) and Theorem 2.1 of
+//! Bajaj–Chen–Xu 1994 (the sign condition under which the zero set in a tetrahedron is a
+//! triangular j-patch).
+
+use crate::multi_index;
+use crate::roots::{UNIT_ROUNDOFF as U, cubic_roots};
+use crate::{BbError, BbPoly};
+
+/// Which of the two bounds of Lemma 2.3 attains `b_min`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LiftCase {
+    /// `b_min^(1) = min_t max{−3F_2(t)/(βt²), −F_3(t)/(βt²)}`.
+    One,
+    /// `b_min^(2) = min_{t: F_1(t) ≤ 0} −F_3(t)/(βt²)`.
+    Two,
+}
+
+/// The result of [`lemma_2_3_b_min`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LiftBound {
+    /// `b_min = min{b_min^(1), b_min^(2)}`, rounded upwards (see [`lemma_2_3_b_min`]).
+    pub b_min: f64,
+    /// `b_min^(1)` (rounded upwards).
+    pub b_min_1: f64,
+    /// `b_min^(2)` (rounded upwards).
+    pub b_min_2: f64,
+    /// The `t_min ∈ (0, 1]` of the Lemma's proof where `b_min` is attained: for `b > b_min`
+    /// the Bézier coefficients of `F(·, b)` on `[0, t_min]` change sign exactly once.
+    pub t_min: f64,
+    /// Which bound attains `b_min`.
+    pub case: LiftCase,
+}
+
+/// Lemma 2.3 of Xu–Huang–Bajaj 2001: for `F(t, b) = Σ_{i=0}^{3} b_i B_i^3(t) + β t² b` with
+/// `b_0 < 0 < β`, every `b > b_min` makes the smallest zero of `F(·, b)` in `[0, 1)` simple.
+///
+/// With `F_j(t) = Σ_{i≤j} b_i B_i^j(t)` (the left de Casteljau coefficients at t),
+/// `b_min^(1) = min_{t∈(0,1]} max{g_2(t), g_3(t)}` and
+/// `b_min^(2) = min_{t∈(0,1], F_1(t)≤0} g_3(t)`, with `g_2 = −3F_2/(βt²)`, `g_3 = −F_3/(βt²)`.
+///
+/// Computed exactly as the Note after the proof says, from critical points, not a grid. Both
+/// functions tend to +∞ as t → 0+ (`F_j(0) = b_0 < 0`), so the minimum of `max{g_2, g_3}` is
+/// attained at t = 1, at a critical point of g_2 where g_2 ≥ g_3, at a critical point of g_3
+/// where g_3 ≥ g_2, or where g_2 = g_3; evaluating `max{g_2, g_3}` at all of these candidates and
+/// taking the least value gives the minimum. With monomial coefficients
+/// `F_2 = A + Bt + C₂t²`, `F_3 = A + B₃t + C₃t² + Dt³`:
+/// * `(F_2/t²)' = 0 ⟺ F_2' t − 2F_2 = −Bt − 2A = 0` (linear: the t² terms cancel);
+/// * `(F_3/t²)' = 0 ⟺ F_3' t − 2F_3 = Dt³ − B₃t − 2A = 0` (cubic without t² term);
+/// * `g_2 = g_3 ⟺ 3F_2 − F_3 = 0` (cubic).
+///
+/// The cubics are solved by [`cubic_roots`]. `b_min^(2)` takes t = 1 or the zero of the linear
+/// `F_1` (the end of `{F_1 ≤ 0}`, which starts at t = 0 since `F_1(0) = b_0 < 0`) and the
+/// critical points of g_3 inside.
+///
+/// Guarantee: every candidate value is `max{g_2, g_3}` (or g_3) at an actual point t, and the
+/// proof of the Lemma only needs *some* t with `b > g(t)`. So each value is rounded upwards
+/// by its evaluation error bound (de Casteljau: `4(j+1)u Σ|b_i|` for F_j, then one division);
+/// then any `b > b_min` satisfies the proof's strict inequalities at `t_min` in exact
+/// arithmetic, whatever the rounding of the candidate points themselves.
+///
+/// Errors: non-finite input, `b_0 ≥ 0` or `β ≤ 0`.
+///
+/// ```
+/// use algesurf_bb::roots::find_roots;
+/// use algesurf_bb::sheet::lemma_2_3_b_min;
+/// let (b, beta) = ([-1.0, 2.0, -3.0, 0.5], 1.0);
+/// let bound = lemma_2_3_b_min(b, beta)?;
+/// let lifted = |x: f64| [b[0], b[1], b[2] + beta * x / 3.0, b[3] + beta * x];
+/// // Above b_min the smallest root in [0, 1) is simple.
+/// let roots = find_roots(&lifted(bound.b_min + 1e-3))?;
+/// assert!(roots[0].is_simple() && roots[0].t < 1.0);
+/// # Ok::<(), algesurf_bb::BbError>(())
+/// ```
+pub fn lemma_2_3_b_min(b: [f64; 4], beta: f64) -> Result<LiftBound, BbError> {
+    if b.iter().any(|x| !x.is_finite()) || !beta.is_finite() {
+        return Err(BbError::NonFinite {
+            what: "Lemma 2.3 coefficient",
+        });
+    }
+    if b[0] >= 0.0 {
+        return Err(BbError::InvalidArgument(format!(
+            "Lemma 2.3 needs b_0 < 0, got {}",
+            b[0]
+        )));
+    }
+    if beta <= 0.0 {
+        return Err(BbError::InvalidArgument(format!(
+            "Lemma 2.3 needs β > 0, got {beta}"
+        )));
+    }
+    let f2 = [b[0], b[1], b[2]];
+    let abs_sum = b.iter().map(|x| x.abs()).sum::<f64>();
+    // Upper bounds of g_2 and g_3 at t (see the doc comment): de Casteljau's error on F_j is
+    // at most 4(j+1)u Σ|b_i| for t ∈ [0, 1] (j levels of convex combinations with rounded
+    // weights), and the division by βt² adds 3u relative.
+    let g_up = |f: f64, j: usize, scale: f64, t: f64| {
+        let num = -scale * f + scale * 4.0 * (j as f64 + 1.0) * U * abs_sum;
+        let den = beta * t * t;
+        let g = num / den;
+        g + 3.0 * U * g.abs()
+    };
+    let g2 = |t: f64| g_up(crate::roots::eval(&f2, t), 2, 3.0, t);
+    let g3 = |t: f64| g_up(crate::roots::eval(&b, t), 3, 1.0, t);
+
+    // Monomial coefficients: F_2 = A + Bt + C t², F_3 = A + B₃ t + C₃ t² + D t³.
+    let a0 = b[0];
+    let b2m = 2.0 * (b[1] - b[0]);
+    let b3m = 3.0 * (b[1] - b[0]);
+    let d3m = b[3] - 3.0 * b[2] + 3.0 * b[1] - b[0];
+    let mut crit2 = Vec::new();
+    if b2m != 0.0 {
+        crit2.push(-2.0 * a0 / b2m);
+    }
+    // h_3(t) = D t³ − B₃ t − 2A in Bernstein form (monomial → Bernstein of degree 3:
+    // c_k = Σ_{i≤k} C(k,i)/C(3,i) m_i, Farin 1990 §5.7).
+    let m = [-2.0 * a0, -b3m, 0.0, d3m];
+    let h3 = [
+        m[0],
+        m[0] + m[1] / 3.0,
+        m[0] + 2.0 * m[1] / 3.0 + m[2] / 3.0,
+        m[0] + m[1] + m[2] + m[3],
+    ];
+    let crit3 = roots_or_none(&h3)?;
+    // 3F_2 − F_3 in Bernstein degree 3: F_2 elevated is (b0, (b0 + 2b1)/3, (2b1 + b2)/3, b2).
+    let cross = [
+        3.0 * b[0] - b[0],
+        (b[0] + 2.0 * b[1]) - b[1],
+        (2.0 * b[1] + b[2]) - b[2],
+        3.0 * b[2] - b[3],
+    ];
+    let crossings = roots_or_none(&cross)?;
+
+    let inside = |t: &f64| *t > 0.0 && *t <= 1.0;
+    let mut best1 = (f64::INFINITY, 1.0);
+    for t in std::iter::once(1.0)
+        .chain(crit2.iter().copied())
+        .chain(crit3.iter().copied())
+        .chain(crossings.iter().copied())
+        .filter(inside)
+    {
+        let v = g2(t).max(g3(t));
+        if v < best1.0 {
+            best1 = (v, t);
+        }
+    }
+    // {F_1 ≤ 0} = (0, t1] with t1 the zero of b0(1 − t) + b1 t when b1 > 0, else (0, 1].
+    let t1 = if b[1] > 0.0 {
+        b[0] / (b[0] - b[1])
+    } else {
+        1.0
+    };
+    let mut best2 = (f64::INFINITY, t1);
+    for t in std::iter::once(t1)
+        .chain(crit3.iter().copied())
+        .filter(|t| inside(t) && *t <= t1)
+    {
+        let v = g3(t);
+        if v < best2.0 {
+            best2 = (v, t);
+        }
+    }
+    let (b_min, t_min, case) = if best1.0 <= best2.0 {
+        (best1.0, best1.1, LiftCase::One)
+    } else {
+        (best2.0, best2.1, LiftCase::Two)
+    };
+    Ok(LiftBound {
+        b_min,
+        b_min_1: best1.0,
+        b_min_2: best2.0,
+        t_min,
+        case,
+    })
+}
+
+/// Roots in [0, 1] of a cubic in Bernstein form; an identically zero cubic has no isolated
+/// critical points or crossings (then every point is one and the other candidates cover it).
+fn roots_or_none(c: &[f64; 4]) -> Result<Vec<f64>, BbError> {
+    if c.iter().all(|x| *x == 0.0) {
+        return Ok(Vec::new());
+    }
+    Ok(cubic_roots(c)?.into_iter().map(|r| r.t).collect())
+}
+
+/// The lifting factor β of Step 6 (§4.2 of Xu–Huang–Bajaj 2001) for the edge A-patch's
+/// shooting polynomial (4.9): `β(y) = B_0^3(y) + (2/3)ν₁ B_1^3(y) + (2/3)μ₄ B_2^3(y) + B_3^3(y)
+/// + y(1 − y)`, with ν₁ and μ₄ of (4.15). Pass `β(y)` to [`lemma_2_3_b_min`] for each y.
+pub fn edge_lifting_beta(nu1: f64, mu4: f64, y: f64) -> f64 {
+    let s = 1.0 - y;
+    s * s * s + 2.0 * nu1 * y * s * s + 2.0 * mu4 * y * y * s + y * y * y + y * s
+}
+
+/// Theorem 2.1 of Bajaj–Chen–Xu 1994: the sufficient condition for the zero set of the
+/// tetrahedral BB polynomial `f` (degree m, any) to be a triangular j-patch — every segment from
+/// vertex `j` to a point of the open opposite face meets it exactly once.
+///
+/// Returns the least `k ∈ (0, m)` with `b_λ ≥ 0` for `λ_j < k` (2.3), `b_λ ≤ 0` for `λ_j > k`
+/// (2.4), the layer `λ_j = 0` not all zero, and some layer `λ_j = i > k` not all zero; `None`
+/// when there is none. (The text's "Σ b_λ > 0 / Σ b_λ < 0" for those layers is the same as
+/// "not all zero", given the sign conditions.) Vertex `j` is 0-based here (the paper's j − 1).
+///
+/// Why it works: along the segment from q on the open face to vertex j, f has the Bernstein
+/// coefficients `B_s(q)` of the layers `λ_j = s` ((4.8) of Xu–Huang–Bajaj 2001). In the open
+/// face every Bernstein basis function is positive, so `B_0(q) > 0`, `B_s(q) ≥ 0` for s < k,
+/// `B_s(q) ≤ 0` for s > k and `B_i(q) < 0`: exactly one sign change, so by the
+/// variation-diminishing property exactly one simple root in (0, 1).
+///
+/// ```
+/// use algesurf_bb::BbPoly;
+/// use algesurf_bb::sheet::j_patch_level;
+/// // Layers along vertex 3 (λ_3 = 0, 1, 2, 3) with constant values 1, −0.5, −1, −2.
+/// let f = BbPoly::<f64, 4>::from_fn(3, |l| [1.0, -0.5, -1.0, -2.0][l[3]]);
+/// assert_eq!(j_patch_level(&f, 3)?, Some(1));
+/// # Ok::<(), algesurf_bb::BbError>(())
+/// ```
+pub fn j_patch_level(f: &BbPoly<f64, 4>, j: usize) -> Result<Option<usize>, BbError> {
+    if j >= 4 {
+        return Err(BbError::Index(format!(
+            "vertex {j} of a tetrahedron (0..4)"
+        )));
+    }
+    if f.coeffs().iter().any(|x| !x.is_finite()) {
+        return Err(BbError::NonFinite {
+            what: "tetrahedral coefficient",
+        });
+    }
+    let m = f.degree();
+    // Per layer s: (all ≥ 0, all ≤ 0, not all zero).
+    let mut nonneg = vec![true; m + 1];
+    let mut nonpos = vec![true; m + 1];
+    let mut nonzero = vec![false; m + 1];
+    for (lambda, c) in multi_index::iter::<4>(m).zip(f.coeffs()) {
+        let s = lambda[j];
+        nonneg[s] &= *c >= 0.0;
+        nonpos[s] &= *c <= 0.0;
+        nonzero[s] |= *c != 0.0;
+    }
+    for k in 1..m {
+        let below = (0..k).all(|s| nonneg[s]);
+        let above = (k + 1..=m).all(|s| nonpos[s]);
+        if below && above && nonzero[0] && (k + 1..=m).any(|s| nonzero[s]) {
+            return Ok(Some(k));
+        }
+    }
+    Ok(None)
+}

@@ -44,7 +44,13 @@ fn exact_value(factors: &[Factor], extra: &[f64], scale: f64, skip: usize, t: f6
 /// at most about `(E / |p^{(m)}(r)/m!|)^{1/m}` (the first term of the Taylor expansion at r).
 /// E is the solver's documented coefficient error bound plus the de Casteljau rounding; the
 /// factor 4 covers the second-order terms.
-fn expected_accuracy(p: &BbPoly<f64, 2>, factors: &[Factor], extra: &[f64], scale: f64, i: usize) -> f64 {
+fn expected_accuracy(
+    p: &BbPoly<f64, 2>,
+    factors: &[Factor],
+    extra: &[f64],
+    scale: f64,
+    i: usize,
+) -> f64 {
     let n = p.degree();
     let e = (RootOptions::for_degree(n).relative_coefficient_error + 4.0 * n as f64 * f64::EPSILON)
         * p.max_coeff_norm();
@@ -217,7 +223,10 @@ fn double_triple_and_end_roots() {
         (vec![f(0.3, 2), f(0.7, 1)], vec![1.0]),
         (vec![f(0.5, 3)], vec![1.0, 2.0]),
         (vec![f(0.0, 2), f(1.0, 3), f(0.4, 1)], vec![1.0]),
-        (vec![f(0.0, 1), f(0.25, 2), f(0.75, 2), f(1.0, 1)], vec![1.0, -0.5, 1.0]),
+        (
+            vec![f(0.0, 1), f(0.25, 2), f(0.75, 2), f(1.0, 1)],
+            vec![1.0, -0.5, 1.0],
+        ),
         (vec![f(0.1, 3), f(0.9, 3)], vec![1.0]),
         (vec![f(0.2, 1), f(0.45, 4)], vec![1.0]),
     ] {
@@ -230,7 +239,14 @@ fn clusters_below_rounding_become_one_multiple_root() {
     // Two roots 1e-10 apart: p ≈ (t − r)², whose minimum −(5e-11)² is far below the rounding
     // level, so no computation in f64 can separate them: one cluster of multiplicity 2.
     let p = build(
-        &[Factor { r: 0.3, m: 1 }, Factor { r: 0.3 + 1e-10, m: 1 }, Factor { r: 0.8, m: 1 }],
+        &[
+            Factor { r: 0.3, m: 1 },
+            Factor {
+                r: 0.3 + 1e-10,
+                m: 1,
+            },
+            Factor { r: 0.8, m: 1 },
+        ],
         &[1.0],
         1.0,
     );
@@ -269,10 +285,20 @@ fn touching_root_without_sign_change_is_found() {
 #[test]
 fn high_degree_and_errors() {
     // Degree 9 Wilkinson-like: roots k/10, k = 1..9, all simple.
-    let factors: Vec<Factor> = (1..10).map(|k| Factor { r: k as f64 / 10.0, m: 1 }).collect();
+    let factors: Vec<Factor> = (1..10)
+        .map(|k| Factor {
+            r: k as f64 / 10.0,
+            m: 1,
+        })
+        .collect();
     check_recovers(&factors, &[1.0], 1.0).unwrap();
     // Degree 20.
-    let factors: Vec<Factor> = (0..20).map(|k| Factor { r: (k as f64 + 0.5) / 20.0, m: 1 }).collect();
+    let factors: Vec<Factor> = (0..20)
+        .map(|k| Factor {
+            r: (k as f64 + 0.5) / 20.0,
+            m: 1,
+        })
+        .collect();
     check_recovers(&factors, &[1.0], 1.0).unwrap();
     assert!(find_roots(&[]).is_err());
     assert!(find_roots(&[0.0, 0.0]).is_err());
@@ -282,7 +308,13 @@ fn high_degree_and_errors() {
     assert!(shooting_root([f64::NAN, 1.0, 1.0, 1.0]).is_err());
     assert_eq!(find_roots(&[2.0]).unwrap(), Vec::<Root>::new());
     // Constant zero at an end only: b = (0, 1) is t, a simple root at 0.
-    assert_eq!(find_roots(&[0.0, 1.0]).unwrap(), vec![Root { t: 0.0, multiplicity: 1 }]);
+    assert_eq!(
+        find_roots(&[0.0, 1.0]).unwrap(),
+        vec![Root {
+            t: 0.0,
+            multiplicity: 1
+        }]
+    );
 }
 
 #[test]
@@ -305,7 +337,10 @@ fn shooting_root_degenerate_leading_coefficients() {
     let r = shooting_root(b).unwrap().unwrap();
     assert!(BbPoly::univariate(&b).unwrap().eval_t(r.t).abs() < 4e-16);
     // b_0 = 0 ⇒ t = 0; no root in [0, 1).
-    assert_eq!(shooting_root([0.0, 1.0, 2.0, 3.0]).unwrap().unwrap().branch, Branch::Origin);
+    assert_eq!(
+        shooting_root([0.0, 1.0, 2.0, 3.0]).unwrap().unwrap().branch,
+        Branch::Origin
+    );
     assert!(shooting_root([1.0, 2.0, 3.0, 4.0]).unwrap().is_none());
     assert!(shooting_root([-1.0, -2.0, -3.0, 0.0]).unwrap().is_none());
 }
@@ -353,4 +388,190 @@ fn corollary_fails_without_ab_positive_but_general_rule_still_smallest() {
     assert_ne!(r.branch, Branch::X1);
     let sub = find_roots(&b).unwrap();
     assert!((sub[0].t - r.t).abs() < 1e-12);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Lemma 2.3 (Xu–Huang–Bajaj 2001) and Theorem 2.1 (Bajaj–Chen–Xu 1994).
+
+mod sheets {
+    use super::*;
+    use algesurf_bb::sheet::{LiftCase, edge_lifting_beta, j_patch_level, lemma_2_3_b_min};
+
+    fn lifted(b: [f64; 4], beta: f64, x: f64) -> [f64; 4] {
+        // β t² = β (B_2^3/3 + B_3^3).
+        [b[0], b[1], b[2] + beta * x / 3.0, b[3] + beta * x]
+    }
+
+    /// `max{g_2, g_3}` and `g_3` of the Lemma, evaluated directly (monomials), for grid checks.
+    fn g(b: [f64; 4], beta: f64, t: f64) -> (f64, f64, f64) {
+        let s = 1.0 - t;
+        let f1 = b[0] * s + b[1] * t;
+        let f2 = b[0] * s * s + 2.0 * b[1] * s * t + b[2] * t * t;
+        let f3 = BbPoly::univariate(&b).unwrap().eval_t(t);
+        (-3.0 * f2 / (beta * t * t), -f3 / (beta * t * t), f1)
+    }
+
+    proptest! {
+        #[test]
+        fn above_b_min_the_smallest_root_is_simple(
+            b0 in -2.0f64..-0.01, b1 in -3.0f64..3.0, b2 in -3.0f64..3.0, b3 in -3.0f64..3.0,
+            beta in 0.1f64..3.0, lift in prop_oneof![Just(1e-6), Just(1e-3), Just(1.0)],
+        ) {
+            let b = [b0, b1, b2, b3];
+            let bound = lemma_2_3_b_min(b, beta).unwrap();
+            prop_assert!(bound.b_min.is_finite() && bound.t_min > 0.0 && bound.t_min <= 1.0);
+            let x = bound.b_min + lift * (1.0 + bound.b_min.abs());
+            let roots = find_roots(&lifted(b, beta, x)).unwrap();
+            if let Some(first) = roots.iter().find(|r| r.t < 1.0) {
+                prop_assert!(first.is_simple(), "b = {:?}, β = {}, bound {:?}: {:?}", b, beta, bound, roots);
+                prop_assert!(first.t <= bound.t_min, "the proof puts the root in (0, t_min]");
+            }
+            // The proof's certificate: on [0, t_min] the coefficients change sign exactly once.
+            let p = BbPoly::univariate(&lifted(b, beta, x)).unwrap();
+            let left = p.reparametrize(&[[1.0, 0.0], [1.0 - bound.t_min, bound.t_min]]);
+            let c = left.coeffs();
+            // Coefficients within rounding of zero are skipped, as zeros are in the sign-change
+            // count (in case 2, t_min is the zero of F_1, so that coefficient is 0 up to
+            // rounding); 64ε of the largest covers the few operations of the subdivision.
+            let cmax = c.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            let signs: Vec<bool> = c
+                .iter()
+                .filter(|v| v.abs() > 64.0 * f64::EPSILON * cmax)
+                .map(|v| *v > 0.0)
+                .collect();
+            let changes = signs.windows(2).filter(|w| w[0] != w[1]).count();
+            prop_assert_eq!(changes, 1, "certificate coefficients {:?}", c);
+            // The minimum is found, not merely bounded: no grid point does better.
+            for k in 1..=2000 {
+                let t = k as f64 / 2000.0;
+                let (g2, g3, f1) = g(b, beta, t);
+                let slack = 1e-9 * (1.0 + g2.abs().max(g3.abs()));
+                prop_assert!(bound.b_min_1 <= g2.max(g3) + slack, "t = {}: {:?}", t, bound);
+                if f1 <= 0.0 {
+                    prop_assert!(bound.b_min_2 <= g3 + slack, "t = {}: {:?}", t, bound);
+                }
+            }
+        }
+    }
+
+    /// The bound is tight: b = (−1, −1, 4, −2), β = 1 has g_3(t) = 1/t² − 15 + 16t with its
+    /// minimum −3 at t = 1/2 and F_1 ≤ 0 on [0, 1], so b_min = −3 (case 2), and at b = b_min the
+    /// smallest root is the double root t = 1/2; just above it is simple, just below there is
+    /// no root in [0, 1] at all.
+    #[test]
+    fn the_bound_is_tight_where_g3_has_an_interior_minimum() {
+        let b = [-1.0, -1.0, 4.0, -2.0];
+        let bound = lemma_2_3_b_min(b, 1.0).unwrap();
+        assert_eq!(bound.case, LiftCase::Two);
+        assert!((bound.b_min + 3.0).abs() < 1e-13, "{bound:?}");
+        assert!((bound.t_min - 0.5).abs() < 1e-15);
+        assert!(bound.b_min >= -3.0, "rounded upwards");
+        let at = find_roots(&lifted(b, 1.0, bound.b_min)).unwrap();
+        assert_eq!(at[0].multiplicity, 2, "{at:?}");
+        assert!((at[0].t - 0.5).abs() < 1e-7);
+        let above = find_roots(&lifted(b, 1.0, bound.b_min + 1e-3)).unwrap();
+        assert!(above[0].is_simple() && above[0].t < 0.5);
+        let below = find_roots(&lifted(b, 1.0, bound.b_min - 1e-3)).unwrap();
+        assert!(below.iter().all(|r| r.t >= 1.0), "{below:?}");
+    }
+
+    #[test]
+    fn lemma_rejects_bad_input_and_edge_beta_is_positive() {
+        assert!(lemma_2_3_b_min([0.0, 1.0, 1.0, 1.0], 1.0).is_err());
+        assert!(lemma_2_3_b_min([-1.0, 1.0, 1.0, 1.0], 0.0).is_err());
+        assert!(lemma_2_3_b_min([-1.0, f64::NAN, 1.0, 1.0], 1.0).is_err());
+        // β(y) = 1 at both ends; with ν₁, μ₄ ≥ 0 it is ≥ min(1, …) > 0 inside.
+        assert_eq!(edge_lifting_beta(0.3, 0.7, 0.0), 1.0);
+        assert_eq!(edge_lifting_beta(0.3, 0.7, 1.0), 1.0);
+        // At y = 1/2: 1/8 + (2/3)(0.3)(3/8) + (2/3)(0.7)(3/8) + 1/8 + 1/4 = 0.75.
+        assert!((edge_lifting_beta(0.3, 0.7, 0.5) - 0.75).abs() < 1e-15);
+    }
+
+    /// A tetrahedral polynomial of degree `m` whose layers along vertex `j` have the signs of
+    /// Theorem 2.1 with `k = 1`: layer 0 positive, layer 1 mixed, the rest non-positive.
+    fn j_patch_poly(m: usize, j: usize, seed: &[f64]) -> BbPoly<f64, 4> {
+        let mut i = 0;
+        BbPoly::from_fn(m, |l| {
+            i += 1;
+            let r = seed[i % seed.len()];
+            match l[j] {
+                0 => 0.1 + r.abs(),
+                1 => r,
+                // Some zeros inside the negative layers; the vertex coefficient stays negative
+                // so that some layer above k is not all zero.
+                s if s < m && i % 5 == 0 => 0.0,
+                _ => -(0.05 + r.abs()),
+            }
+        })
+    }
+
+    proptest! {
+        #[test]
+        fn theorem_2_1_rays_from_vertex_j_meet_the_patch_once(
+            m in 2usize..=5, j in 0usize..4,
+            seed in prop::collection::vec(-1.0f64..1.0, 8..30),
+            q in prop::array::uniform4(0.01f64..1.0),
+        ) {
+            let f = j_patch_poly(m, j, &seed);
+            prop_assert_eq!(j_patch_level(&f, j).unwrap(), Some(1));
+            // A point of the open face opposite j, and the segment from it to vertex j.
+            let mut face = q;
+            face[j] = 0.0;
+            let sum: f64 = face.iter().sum();
+            let face = face.map(|x| x / sum);
+            let mut vj = [0.0; 4];
+            vj[j] = 1.0;
+            let ray = f.restrict_to_segment(face, vj);
+            let roots = find_roots_of(&ray).unwrap();
+            let interior: Vec<_> = roots.iter().filter(|r| r.t > 0.0 && r.t < 1.0).collect();
+            prop_assert_eq!(interior.len(), 1, "{:?}", roots);
+            prop_assert!(interior[0].is_simple());
+        }
+    }
+
+    #[test]
+    fn theorem_2_1_fails_where_rays_meet_three_times() {
+        // Constant layers 1, −2, 2, −1 along vertex 3: every ray's polynomial has coefficients
+        // (1, −2, 2, −1), which has three roots in (0, 1) (one at 1/2 by the antisymmetry
+        // p(1 − t) = −p(t)).
+        let f = BbPoly::<f64, 4>::from_fn(3, |l| [1.0, -2.0, 2.0, -1.0][l[3]]);
+        assert_eq!(j_patch_level(&f, 3).unwrap(), None);
+        let ray = f.restrict_to_segment([0.2, 0.3, 0.5, 0.0], [0.0, 0.0, 0.0, 1.0]);
+        let roots = find_roots_of(&ray).unwrap();
+        assert_eq!(roots.len(), 3, "{roots:?}");
+        assert!(roots.iter().all(|r| r.is_simple()));
+        // Along another vertex the condition can hold: layers in λ_0 mix the four values.
+        assert!(j_patch_level(&f, 7).is_err());
+        // Satisfied with k = 2 (layer 2 of mixed signs, layer 3 negative), and not with k = 1.
+        let g = BbPoly::<f64, 4>::from_fn(4, |l| match l[0] {
+            2 => {
+                if l[1] % 2 == 0 {
+                    0.3
+                } else {
+                    -0.3
+                }
+            }
+            s => [1.0, 0.5, 0.0, -1.0, 0.0][s],
+        });
+        assert_eq!(j_patch_level(&g, 0).unwrap(), Some(2));
+        // All-zero layer 0 fails the "Σ b_λ > 0" part.
+        let h = BbPoly::<f64, 4>::from_fn(3, |l| [0.0, 1.0, -1.0, -1.0][l[1]]);
+        assert_eq!(j_patch_level(&h, 1).unwrap(), None);
+    }
+}
+
+/// A ray that starts a hair off the surface (b₀ = −2.5e-34 against coefficients ~5e-3, seen on
+/// the fandisk) still has its root near t = 0; Cardano's shift cannot resolve it, the
+/// near-origin branch must.
+#[test]
+fn shooting_root_just_above_the_origin() {
+    use algesurf_bb::roots::shooting_root;
+    for d in [-2.527783052008247e-34, -1e-20, -1e-15, -1e-12] {
+        let c = [d, 0.0046949808268929305, 0.009404879277733747, 0.014130528525466701];
+        let r = shooting_root(c).unwrap().expect("a root near 0");
+        let expected = -d / (3.0 * c[1]);
+        // Within rounding of the true root: below 8ε·scale, b₀ is noise and t = 0 (1e-14 in t
+        // covers that); above it the root is resolved to 1e-6 relative.
+        assert!(r.t >= 0.0 && (r.t - expected).abs() <= 1e-6 * expected.abs() + 1e-14, "d = {d}: t = {}", r.t);
+    }
 }

@@ -45,7 +45,7 @@ pub struct ConvertArgs {
 /// normals cannot be computed on (non-manifold or invalid faces: try `--repair`), or a write
 /// failure (the output file is then left untouched).
 pub fn run(args: &ConvertArgs) -> Result<(), Box<dyn std::error::Error>> {
-    let mut mesh = algesurf_io::read(&args.input)?;
+    let mut mesh = crate::read_mesh(&args.input)?;
     if args.repair {
         let repaired = repair(&mesh, &RepairOptions::default())?;
         eprint!("{}: {}", args.input.display(), repaired.report);

@@ -21,7 +21,7 @@ pub struct InfoArgs {
 /// The file cannot be read or parsed (the message names the file and the place), or the
 /// mesh is too large for 32-bit indices.
 pub fn run(args: &InfoArgs) -> Result<(), Box<dyn std::error::Error>> {
-    let mesh = algesurf_io::read(&args.input)?;
+    let mesh = crate::read_mesh(&args.input)?;
     let report = validate(&mesh);
     let repaired = repair(&mesh, &RepairOptions::default())?;
     let after = validate(&repaired.mesh);
@@ -93,7 +93,10 @@ pub fn to_text(
         if mesh.normals.is_some() { "yes" } else { "no" }
     );
     let names = |ps: &[algesurf_mesh::Property]| {
-        ps.iter().map(|p| p.name.as_str()).collect::<Vec<_>>().join(", ")
+        ps.iter()
+            .map(|p| p.name.as_str())
+            .collect::<Vec<_>>()
+            .join(", ")
     };
     if !mesh.vertex_properties.is_empty() {
         let _ = writeln!(s, "vertex properties: {}", names(&mesh.vertex_properties));

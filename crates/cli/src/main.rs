@@ -3,6 +3,7 @@
 
 mod convert;
 mod info;
+mod smooth;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -22,16 +23,37 @@ enum Command {
     Info(info::InfoArgs),
     /// Convert a mesh between OBJ, PLY, STL, OFF, glTF and GLB, optionally repairing it.
     Convert(convert::ConvertArgs),
+    /// Build a C1-smooth A-patch surface through a triangle mesh and its normals, tessellate
+    /// it and write it (with no INPUT: a built-in icosahedron, which becomes the unit sphere,
+    /// to smooth.glb).
+    Smooth(smooth::SmoothArgs),
+}
+
+/// Reads a mesh for a command; a file with neither vertices nor faces is an error (the
+/// lenient OBJ reader skips lines it does not know, so any text file reads as an empty OBJ).
+pub(crate) fn read_mesh(
+    path: &std::path::Path,
+) -> Result<algesurf_mesh::PolygonMesh, Box<dyn std::error::Error>> {
+    let mesh = algesurf_io::read(path)?;
+    if mesh.vertex_count() == 0 && mesh.face_count() == 0 {
+        return Err(format!(
+            "{}: no vertices or faces found (not a mesh file?)",
+            path.display()
+        )
+        .into());
+    }
+    Ok(mesh)
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match &cli.command {
-        Command::Info(a) => info::run(a),
-        Command::Convert(a) => convert::run(a),
+        Command::Info(a) => info::run(a).map(|()| ExitCode::SUCCESS),
+        Command::Convert(a) => convert::run(a).map(|()| ExitCode::SUCCESS),
+        Command::Smooth(a) => smooth::run(a),
     };
     match result {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(code) => code,
         Err(e) => {
             eprintln!("algesurf: error: {e}");
             ExitCode::FAILURE

@@ -84,6 +84,16 @@ impl RefineState {
             .collect();
         self.mesh = refined.mesh;
         self.normals.push(new_vertex_normal(&self.mesh, m));
+        // The split tilts the faces around the new vertex: keep every normal of those faces
+        // strictly on their positive side (§3 needs n_fᵀn_l > 0), changing only what must.
+        let around: Vec<u32> = {
+            let t = self.mesh.topology();
+            let mut v: Vec<u32> = t.vertex_faces(m).flat_map(|f| self.mesh.triangles()[f as usize]).collect();
+            v.sort_unstable();
+            v.dedup();
+            v
+        };
+        algesurf_mesh::condition_vertex_normals(&self.mesh, &mut self.normals, &around, algesurf_mesh::DEFAULT_MIN_NORMAL_COSINE);
         let t = self.mesh.topology();
         for &e in t.vertex_edges(m) {
             self.ancestor

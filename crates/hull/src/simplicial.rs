@@ -158,8 +158,18 @@ impl SimplicialHull {
                 refinements: Vec::new(),
                 options: options.clone(),
             };
-            let hits = if options.check_intersections {
+            // §3.1 resolves intersections of *adjacent* tetrahedra (elements sharing a mesh
+            // vertex) by refinement. Tetrahedra of elements far apart on the mesh overlap only
+            // where the input comes closer to itself than the hull is thick, or intersects
+            // itself (the Utah teapot's spout and handle pass through its body): refinement
+            // cannot undo that, so those overlaps are left in place and reported by
+            // `intersections()` / `distant_intersections()`; each patch is still evaluated in
+            // its own tetrahedra, so the surface follows the input there.
+            let hits: Vec<Intersection> = if options.check_intersections {
                 hull.intersections()
+                    .into_iter()
+                    .filter(|h| hull.elements_adjacent(h.first.element, h.second.element))
+                    .collect()
             } else {
                 Vec::new()
             };
@@ -209,6 +219,30 @@ impl SimplicialHull {
             }
             round += 1;
         }
+    }
+
+    /// The mesh vertices of an element's tetrahedron (three for a face, two for an edge).
+    fn element_vertices(&self, e: Element) -> Vec<u32> {
+        match e {
+            Element::Face(f) => self.mesh.triangles()[f as usize].to_vec(),
+            Element::Edge(e) => self.edges[e as usize].vertices.to_vec(),
+        }
+    }
+
+    /// Whether two elements share a mesh vertex (their tetrahedra are adjacent in Σ).
+    pub fn elements_adjacent(&self, a: Element, b: Element) -> bool {
+        let va = self.element_vertices(a);
+        self.element_vertices(b).iter().any(|v| va.contains(v))
+    }
+
+    /// Overlapping tetrahedra of elements that share no mesh vertex: places where the input
+    /// comes within the hull's thickness of itself or intersects itself. They are reported,
+    /// not refined (see [`SimplicialHull::new`]).
+    pub fn distant_intersections(&self) -> Vec<Intersection> {
+        self.intersections()
+            .into_iter()
+            .filter(|h| !self.elements_adjacent(h.first.element, h.second.element))
+            .collect()
     }
 
     /// The faces of an element (one for a face, one or two for an edge).

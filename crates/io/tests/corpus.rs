@@ -72,21 +72,36 @@ const fn c(
 
 /// `(mesh, raw, welded, repaired)`.
 const REFERENCE: &[(&str, Counts, Counts, Counts)] = &[
-    ("cow", c(2903, 1, 0, 0, 1), c(2903, 1, 0, 0, 1), c(2904, 2, 0, 0, 1)),
+    (
+        "cow",
+        c(2903, 1, 0, 0, 1),
+        c(2903, 1, 0, 0, 1),
+        c(2904, 2, 0, 0, 1),
+    ),
     (
         "fandisk",
         c(6475, 2, 0, 0, 1),
         c(6475, 2, 0, 0, 1),
         c(6475, 2, 0, 0, 1),
     ),
-    ("spot", c(2930, 2, 0, 0, 1), c(2930, 2, 0, 0, 1), c(2930, 2, 0, 0, 1)),
+    (
+        "spot",
+        c(2930, 2, 0, 0, 1),
+        c(2930, 2, 0, 0, 1),
+        c(2930, 2, 0, 0, 1),
+    ),
     (
         "stanford-bunny",
         c(34834, -3, 223, 5, 1),
         c(34834, -3, 223, 5, 1),
         c(34834, -3, 223, 5, 1),
     ),
-    ("suzanne", c(507, 2, 42, 4, 3), c(505, 0, 42, 4, 3), c(507, 2, 42, 4, 3)),
+    (
+        "suzanne",
+        c(507, 2, 42, 4, 3),
+        c(505, 0, 42, 4, 3),
+        c(507, 2, 42, 4, 3),
+    ),
     (
         "teapot",
         c(3644, -34, 1036, 25, 19),
@@ -118,7 +133,11 @@ fn measure(name: &str, stage: &str, mesh: &PolygonMesh) -> Counts {
     assert_eq!(r.euler_characteristic, direct, "{name} {stage}: χ");
     if mesh.faces().all(|f| f.len() == 3) {
         let t = TriMesh::from_polygon_mesh(mesh).unwrap();
-        assert_eq!(t.euler_characteristic(), direct, "{name} {stage}: TriMesh χ");
+        assert_eq!(
+            t.euler_characteristic(),
+            direct,
+            "{name} {stage}: TriMesh χ"
+        );
     }
     let used = mesh.vertex_count()
         - r.findings

@@ -55,7 +55,10 @@ pub mod validate;
 pub use repair::{RepairOptions, RepairReport, Repaired, repair};
 pub use validate::{Finding, ValidationOptions, ValidationReport, validate, validate_with};
 pub mod normals;
-pub use normals::{NormalMethod, loop_limit_normal, vertex_normals};
+pub use normals::{
+    DEFAULT_MIN_NORMAL_COSINE, NormalMethod, condition_normals, condition_vertex_normals, loop_limit_normal,
+    vertex_normals,
+};
 pub mod shapes;
 pub mod subdivision;
 pub use subdivision::{

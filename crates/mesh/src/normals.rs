@@ -155,3 +155,106 @@ pub fn vertex_normals(mesh: &TriMesh, method: NormalMethod) -> Result<Vec<DVec3>
     };
     Ok(out)
 }
+
+/// Least cosine between a vertex normal and each incident face normal that
+/// [`condition_normals`] enforces by default: 0.1 (84°). The simplicial hull of the A-patch
+/// construction (§3 of Xu–Huang–Bajaj 2001) needs every vertex normal strictly on the positive
+/// side of each incident face (`n_f · n_v > 0`); values near 0 are admissible but make the apex
+/// heights `t_l = (p_l − c)ᵀn_l / n_fᵀn_l` blow up like `1/(n_f·n_v)`, giving tall tetrahedra
+/// that collide with their neighbours.
+pub const DEFAULT_MIN_NORMAL_COSINE: f64 = 0.1;
+
+/// Makes every vertex normal lie well inside the cone of its incident faces' normals.
+///
+/// For every vertex whose normal makes a cosine below `min_cos` with an incident face's unit
+/// normal, replaces it by the least blend `normalize(n + s (m − n))`, `s ∈ [0, 1]`, towards the
+/// direction `m` that maximises the smallest cosine with the incident face normals (projected
+/// subgradient ascent, which converges for this concave problem on the hemisphere). Smooth
+/// estimates such as Loop limit normals need this at sharp creases and thin features of real
+/// meshes; elsewhere nothing changes. Returns the new normals (with their original lengths) and
+/// the ids of the vertices changed. A vertex whose faces' normals fit in no cone of half-angle
+/// `acos(min_cos)` gets `m`, the best possible direction, and is still reported.
+pub fn condition_normals(mesh: &TriMesh, normals: &[DVec3], min_cos: f64) -> (Vec<DVec3>, Vec<u32>) {
+    let face_normals = unit_face_normals(mesh);
+    let mut out = normals.to_vec();
+    let mut changed = Vec::new();
+    for v in 0..mesh.vertex_count().min(normals.len()) {
+        if let Some(n) = conditioned(mesh, &face_normals, v as u32, normals[v], min_cos) {
+            out[v] = n;
+            changed.push(v as u32);
+        }
+    }
+    (out, changed)
+}
+
+/// [`condition_normals`] for the vertices `vertices` only (e.g. those whose faces a local
+/// refinement changed); returns the ids changed.
+pub fn condition_vertex_normals(mesh: &TriMesh, normals: &mut [DVec3], vertices: &[u32], min_cos: f64) -> Vec<u32> {
+    let face_normals = unit_face_normals(mesh);
+    let mut changed = Vec::new();
+    for &v in vertices {
+        if let Some(n) = conditioned(mesh, &face_normals, v, normals[v as usize], min_cos) {
+            normals[v as usize] = n;
+            changed.push(v);
+        }
+    }
+    changed
+}
+
+fn unit_face_normals(mesh: &TriMesh) -> Vec<DVec3> {
+    // `face_normal` is area-weighted; the cone test needs unit normals.
+    (0..mesh.face_count()).map(|f| mesh.face_normal(f).normalize_or_zero()).collect()
+}
+
+fn conditioned(mesh: &TriMesh, face_normals: &[DVec3], v: u32, normal: DVec3, min_cos: f64) -> Option<DVec3> {
+    let fn_: Vec<DVec3> = mesh
+        .topology()
+        .vertex_faces(v)
+        .map(|f| face_normals[f as usize])
+        .filter(|n| n.length_squared() > 0.0)
+        .collect();
+    if fn_.is_empty() {
+        return None;
+    }
+    let n0 = normal.normalize_or_zero();
+    let worst = |n: DVec3| fn_.iter().map(|f| f.dot(n)).fold(f64::INFINITY, f64::min);
+    if worst(n0) >= min_cos {
+        return None;
+    }
+    // Maximise min_f n·n_f: subgradient steps towards the worst face, halving on failure.
+    let mut m = fn_.iter().copied().sum::<DVec3>().normalize_or_zero();
+    if m == DVec3::ZERO {
+        m = n0;
+    }
+    let mut step = 0.5;
+    for _ in 0..200 {
+        let f = fn_
+            .iter()
+            .copied()
+            .min_by(|a, b| a.dot(m).total_cmp(&b.dot(m)))
+            .expect("non-empty");
+        let cand = (m + (f - m * f.dot(m)) * step).normalize_or_zero();
+        if worst(cand) > worst(m) {
+            m = cand;
+        } else {
+            step *= 0.5;
+        }
+    }
+    // Least blend from n0 towards m that reaches min_cos (bisection on s).
+    let blend = |s: f64| (n0 + (m - n0) * s).normalize_or_zero();
+    let new = if worst(m) < min_cos {
+        m
+    } else {
+        let (mut lo, mut hi) = (0.0, 1.0);
+        for _ in 0..50 {
+            let mid = 0.5 * (lo + hi);
+            if worst(blend(mid)) >= min_cos {
+                hi = mid
+            } else {
+                lo = mid
+            }
+        }
+        blend(hi)
+    };
+    Some(new * normal.length().max(f64::MIN_POSITIVE))
+}

@@ -80,7 +80,11 @@ fn bow_tie_loops_components_and_split() {
     assert_eq!(out.report.split_vertices, vec![(0, 2)]);
     assert!(out.report.detached_non_manifold_edges.is_empty());
     assert!(out.report.changed());
-    assert!(out.report.to_string().contains("split non-manifold vertices: 1 [0 into 2]"));
+    assert!(
+        out.report
+            .to_string()
+            .contains("split non-manifold vertices: 1 [0 into 2]")
+    );
     let o = &out.mesh;
     assert_valid(o);
     assert_eq!(o.vertex_count(), 6);
@@ -323,11 +327,9 @@ fn tetrahedra_sharing_an_edge_separate_into_two_closed_ones() {
         m.push_face(&t);
     }
     let r = validate(&m);
-    assert!(
-        r.findings
-            .iter()
-            .any(|f| matches!(f, Finding::NonManifoldEdge { vertices: [0, 1], faces } if faces.len() == 4))
-    );
+    assert!(r.findings.iter().any(
+        |f| matches!(f, Finding::NonManifoldEdge { vertices: [0, 1], faces } if faces.len() == 4)
+    ));
     assert_eq!(chi_from_faces(&m), 6 - 11 + 8);
     let out = repair(&m, &RepairOptions::default()).unwrap();
     assert_eq!(out.report.detached_non_manifold_edges, vec![[0, 1]]);
@@ -339,5 +341,52 @@ fn tetrahedra_sharing_an_edge_separate_into_two_closed_ones() {
     for c in t.components() {
         assert_eq!((c.euler_characteristic, c.genus), (2, Some(0)));
         assert!(t.signed_volume_of(&c.faces) > 0.0);
+    }
+}
+
+mod random {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(300))]
+        /// Any triangle soup over a few vertices (non-manifold edges and vertices, flipped and
+        /// duplicate faces galore) repairs to a mesh that validates clean, unless a component
+        /// cannot be oriented (then only orientation findings may remain); χ always matches the
+        /// direct count and no face is lost to the split step.
+        #[test]
+        fn default_repair_yields_valid_meshes(
+            pts in proptest::collection::vec((-1.0f64..1.0, -1.0f64..1.0, -1.0f64..1.0), 4..9),
+            tris in proptest::collection::vec((0u32..9, 0u32..9, 0u32..9), 1..24),
+        ) {
+            let n = pts.len() as u32;
+            let mut m = PolygonMesh::new();
+            m.positions = pts.iter().map(|&(x, y, z)| DVec3::new(x, y, z)).collect();
+            for (a, b, c) in tris {
+                m.push_face(&[a % n, b % n, c % n]);
+            }
+            let out = repair(&m, &RepairOptions::default()).unwrap();
+            let r = validate(&out.mesh);
+            if out.report.non_orientable_components == 0 {
+                prop_assert!(r.is_valid(), "{}", r);
+            } else {
+                prop_assert!(r.findings.iter().all(|f| matches!(f, Finding::InconsistentOrientation { .. })), "{}", r);
+            }
+            prop_assert_eq!(r.euler_characteristic, chi_from_faces(&out.mesh));
+            let t = TriMesh::from_polygon_mesh(&out.mesh).unwrap();
+            prop_assert_eq!(t.euler_characteristic(), chi_from_faces(&out.mesh));
+            let loops: usize = r.components.iter().map(|c| c.boundary_loop_count).sum();
+            prop_assert_eq!(loops, r.boundary_loops.len());
+            // Loops of a manifold mesh are closed and partition its boundary edges.
+            let closed = r.boundary_loops.iter().all(|l| {
+                (0..l.len()).all(|i| {
+                    let (a, b) = (l[i], l[(i + 1) % l.len()]);
+                    t.topology().find_edge(a, b).is_some_and(|e| t.topology().is_boundary_edge(e))
+                })
+            });
+            prop_assert!(closed);
+            let edges_in_loops: usize = r.boundary_loops.iter().map(Vec::len).sum();
+            prop_assert_eq!(edges_in_loops, r.boundary_edge_count());
+        }
     }
 }

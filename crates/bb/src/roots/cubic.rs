@@ -22,8 +22,8 @@
 //! non-negative s among the real branches.
 
 use super::{
-    Root, RootOptions, fastmath, UNIT_ROUNDOFF as U, deflate, end_multiplicities, eval_with_derivative,
-    find_roots, validate,
+    Root, RootOptions, UNIT_ROUNDOFF as U, deflate, end_multiplicities, eval_with_derivative,
+    fastmath, find_roots, validate,
 };
 use crate::BbError;
 
@@ -83,7 +83,7 @@ impl CardanoCubic {
     /// assert!((s[0] - 3.0).abs() < 1e-14 && (s[1] - 1.0 / 3.0).abs() < 1e-14);
     /// assert!((s[2] - 1.0).abs() < 1e-14);
     /// ```
-    #[inline]
+    #[inline(always)]
     pub fn new(coeffs: [f64; 4]) -> Option<Self> {
         let [d, c, b, a] = coeffs;
         if a == 0.0 || !(a.is_finite() && b.is_finite() && c.is_finite() && d.is_finite()) {
@@ -122,10 +122,10 @@ impl CardanoCubic {
         }
     }
 
-    /// x₁ by the fast path of [`super::fastmath`] (relative error ≤ 3e-12 against [`Self::x1`] where the start is not cancelled):
+    /// x₁ by the fast path of [`super::fastmath`] (relative error ≤ 6e-10 in each cube root against [`Self::x1`]; the polish does the rest):
     /// the same formula (4.18)/(4.21), with the real cube root by a division-free Newton iteration and
     /// `cos(θ/3)` from the triple-angle equation (`cos θ = (−q/2)/ρ³`, since `|−q/2 + i√−Δ| = ρ³`).
-    #[inline]
+    #[inline(always)]
     fn x1_fast(&self) -> f64 {
         if self.delta >= 0.0 {
             let sq = self.delta.sqrt();
@@ -146,7 +146,7 @@ impl CardanoCubic {
     }
 
     /// `(ρ, cos θ)` for `Δ < 0`: `ρ = √(−p/3)`, `cos θ = (−q/2)/ρ³`.
-    #[inline]
+    #[inline(always)]
     fn rho_cos_theta(&self) -> (f64, f64) {
         let rho = (-self.p / 3.0).max(0.0).sqrt();
         let r3 = rho * rho * rho;
@@ -235,21 +235,6 @@ impl CardanoCubic {
     }
 }
 
-/// Value, first and second derivative of a cubic in Bernstein form by de Casteljau (convex
-/// combinations for t ∈ [0, 1]: absolute error of the value ≤ 6u max|b_k|). The derivatives
-/// come from the intermediate levels: `p' = 3(c_1 − c_0)`, `p'' = 6(b_01 − 2b_12 + b_23)`
-/// (Farin 1990, §4.3).
-#[inline(always)]
-fn eval3(b: &[f64; 4], t: f64) -> (f64, f64, f64) {
-    let s = 1.0 - t;
-    let b01 = s * b[0] + t * b[1];
-    let b12 = s * b[1] + t * b[2];
-    let b23 = s * b[2] + t * b[3];
-    let c0 = s * b01 + t * b12;
-    let c1 = s * b12 + t * b23;
-    (s * c0 + t * c1, 3.0 * (c1 - c0), 6.0 * (b01 - 2.0 * b12 + b23))
-}
-
 /// Below this relative size (`|a| ≤ 2^-20 Σ|b_k|`) the leading coefficient is treated as zero
 /// and the s-polynomial as quadratic ("a = 0"). Why this scale: Cardano's shift
 /// `s = x − b/a` cancels about `log2|b/a|` bits, so for `|a/b| ≥ 2^-20` the start is accurate
@@ -293,6 +278,32 @@ pub fn shooting_root(coeffs: [f64; 4]) -> Result<Option<ShootingRoot>, BbError> 
         }));
     }
     let scale = d.abs() + c.abs() + b.abs() + a.abs();
+    // A ray starting within rounding of the surface: `d` is below the error with which it was
+    // computed from coefficients of size `scale`, so t = 0 to working precision.
+    if d.abs() <= 8.0 * f64::EPSILON * scale {
+        return Ok(Some(ShootingRoot {
+            t: 0.0,
+            branch: Branch::Origin,
+        }));
+    }
+    // A root just above s = 0: with d·c < 0 and |d| ≤ 2^-27 |c| the s-polynomial
+    // g(s) = d + 3cs + 3bs² + as³ is monotone on [0, 2|d/3c|] (its quadratic and cubic terms
+    // are O(s²) ≤ 2^-27 of the linear one there) with one root near −d/(3c). Cardano cannot
+    // resolve it: the shift x₁ − b/a cancels to an absolute error of ~ε, larger than the root
+    // (a ray from a point of F ≈ 1e-34 returned no root). Newton from −d/(3c) converges
+    // quadratically.
+    if d * c < 0.0 && d.abs() <= c.abs() / 134_217_728.0 {
+        let mut s = -d / (3.0 * c);
+        for _ in 0..3 {
+            let g = d + s * (3.0 * c + s * (3.0 * b + s * a));
+            let dg = 3.0 * c + s * (6.0 * b + 3.0 * s * a);
+            s -= g / dg;
+        }
+        return Ok(Some(ShootingRoot {
+            t: s / (1.0 + s),
+            branch: Branch::Linear,
+        }));
+    }
     let (s, branch) = if a.abs() <= DEGENERATE_A * scale {
         match degenerate_s(d, c, b, scale) {
             Some(found) => found,
@@ -309,19 +320,17 @@ pub fn shooting_root(coeffs: [f64; 4]) -> Result<Option<ShootingRoot>, BbError> 
             None => return Ok(None),
         }
     };
+    let s = polish_s(&coeffs, s);
     let t = s / (1.0 + s);
-    if t >= 1.0 {
+    if t >= 1.0 || t.is_nan() {
         // s beyond 2^53: the root is t = 1 to working precision, outside [0, 1).
         return Ok(None);
     }
-    Ok(Some(ShootingRoot {
-        t: polish(&coeffs, t),
-        branch,
-    }))
+    Ok(Some(ShootingRoot { t, branch }))
 }
 
 /// The §4.4 branch choice: x₁ alone in the Corollary's case, else the smallest admissible s.
-#[inline]
+#[inline(always)]
 fn cardano_smallest_s(cc: &CardanoCubic, a: f64, b: f64, d: f64) -> Option<(f64, Branch)> {
     // Rounding of s = x − b/a: a few ulps of |x| + |b/a| (x carries the error of cbrt/cos and
     // of p, q, which are O(u) relative to |b/a|² and |b/a|³); roots at t ≈ 0 may come out at
@@ -389,41 +398,52 @@ fn degenerate_near_one(coeffs: [f64; 4]) -> Result<Option<ShootingRoot>, BbError
     }))
 }
 
-/// Safeguarded Newton polish of a root of the cubic near `t`: the bracket `[lo, hi]` starts as
-/// `[0, 1]` and is narrowed by the sign of p at each iterate (the smallest root separates the
-/// sign of `p(0) = b_0` from the opposite sign); a step that would leave the bracket, or that
+/// Safeguarded Newton polish of a root `s ≥ 0` of the paper's s-polynomial
+/// `P(s) = d + 3cs + 3bs² + as³ = p(t)/(1 − t)³`. The bracket `[lo, hi]` starts as `[0, ∞)`
+/// and is narrowed by the sign of P at each iterate (the smallest positive root separates the
+/// sign of `P(0) = b_0` from the opposite sign); a step that would leave the bracket, or that
 /// is not finite, ends the polish with the current iterate.
 ///
-/// Stopping rule: after a Newton step `h = f/f'` the error of the new iterate is
-/// `|f''/(2f')| h² (1 + O(h))` (Taylor expansion at the root; Kantorovich), so the polish stops
-/// as soon as that estimate is below half an ulp of t, `u t` — usually after one step, since
-/// the Cardano start is accurate to ~1e-12.
-#[inline]
-fn polish(b: &[f64; 4], t0: f64) -> f64 {
-    let neg0 = b[0] < 0.0;
-    let (mut lo, mut hi) = (0.0f64, 1.0f64);
-    let mut t = t0;
+/// Working in s keeps the single division `t = s/(1 + s)` off the iteration. Horner's rule in
+/// s is as well conditioned as de Casteljau in t: its error bound `γ_6 Σ_k C(3,k)|b_k| s^k`
+/// is `(1 − t)^{-3}` times de Casteljau's `γ_6 Σ_k |b_k| B_k^3(t)`, and the scale
+/// `(1 − t)^{-3}` divides out of Newton's step.
+///
+/// Stopping rule: after a Newton step `h = P/P'` the error of the new iterate is
+/// `|P''/(2P')| h² (1 + O(h))` (Taylor expansion at the root; Kantorovich), so the polish stops
+/// as soon as that estimate is below half an ulp of s, `u s` — usually after one step, since
+/// the Cardano start is accurate to ~1e-9. (Relative accuracy in s carries over to t:
+/// `dt/t = ds/(s(1 + s)) ≤ ds/s`.)
+#[inline(always)]
+fn polish_s(b: &[f64; 4], s0: f64) -> f64 {
+    let [d, c, bb, a] = *b;
+    let (c3, b3) = (3.0 * c, 3.0 * bb);
+    let neg0 = d < 0.0;
+    let (mut lo, mut hi) = (0.0f64, f64::INFINITY);
+    let mut s = s0;
     for _ in 0..NEWTON_STEPS {
-        let (f, df, d2f) = eval3(b, t);
+        let f = d + s * (c3 + s * (b3 + s * a));
+        let df = c3 + s * (2.0 * b3 + s * (3.0 * a));
+        let d2f = 2.0 * b3 + s * (6.0 * a);
         if f == 0.0 {
             break;
         }
         if (f < 0.0) == neg0 {
-            lo = t;
+            lo = s;
         } else {
-            hi = t;
+            hi = s;
         }
         let h = f / df;
-        let next = t - h;
+        let next = s - h;
         if !(next >= lo && next <= hi) {
             break;
         }
-        t = next;
-        if (d2f * h * h).abs() <= 2.0 * U * (df * t).abs() {
+        s = next;
+        if (d2f * h * h).abs() <= 2.0 * U * (df * s).abs() {
             break;
         }
     }
-    t
+    s
 }
 
 /// All real roots in `[0, 1]` of `Σ b_k B_k^n(t)` for `n ≤ 3` (1 to 4 coefficients), sorted,
@@ -541,18 +561,17 @@ fn quadratic_roots(q: &[f64], qe: &[f64]) -> Vec<Root> {
     let disc = q1 * q1 - q0 * q2;
     // First-order perturbation bound of the discriminant under coefficient errors qe, plus the
     // rounding of its own evaluation (2u of each product, u for the difference).
-    let disc_err =
-        2.0 * q1.abs() * qe[1] + q0.abs() * qe[2] + q2.abs() * qe[0] + 3.0 * U * (q1 * q1 + (q0 * q2).abs());
+    let disc_err = 2.0 * q1.abs() * qe[1]
+        + q0.abs() * qe[2]
+        + q2.abs() * qe[0]
+        + 3.0 * U * (q1 * q1 + (q0 * q2).abs());
     let polish_q = |t: f64| newton_bracketed(q, t);
     if disc.abs() <= disc_err {
         // Double root: the zero of q' = 2[(q1 − q0)(1 − t) + (q2 − q1) t], exact formula.
         let den = q0 - 2.0 * q1 + q2;
         let t = (q0 - q1) / den;
         return if den != 0.0 && t > 0.0 && t < 1.0 {
-            vec![Root {
-                t,
-                multiplicity: 2,
-            }]
+            vec![Root { t, multiplicity: 2 }]
         } else {
             Vec::new()
         };
@@ -619,7 +638,7 @@ fn cubic_interior(c: &[f64; 4], emax: f64) -> Vec<Root> {
     for (x, mult) in xs {
         let s = x - beta;
         let tol = 16.0 * U * (x.abs() + beta.abs());
-        if !(s > -tol) {
+        if s <= -tol || s.is_nan() {
             continue;
         }
         let t0 = (s.max(0.0)) / (1.0 + s.max(0.0));
@@ -661,7 +680,9 @@ fn newton_bracketed(c: &[f64], t0: f64) -> f64 {
         if (flo < 0.0) != (fhi < 0.0) && flo != 0.0 && fhi != 0.0 {
             let local = super::restrict(c, lo, hi);
             let w = hi - lo;
-            let u = super::bracketed_root(&local, |u| 2.0 * U * (lo + u * w).max(f64::MIN_POSITIVE) / w);
+            let u = super::bracketed_root(&local, |u| {
+                2.0 * U * (lo + u * w).max(f64::MIN_POSITIVE) / w
+            });
             return (lo + u * w).clamp(lo, hi);
         }
         if flo == 0.0 {
@@ -676,4 +697,51 @@ fn newton_bracketed(c: &[f64], t0: f64) -> f64 {
         h *= 8.0;
     }
     t0
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The fast path against the reference formulas, on a grid of cubics covering Δ of both
+    /// signs and q of both signs.
+    #[test]
+    fn fast_branches_match_reference() {
+        let mut checked = [0usize; 2];
+        for i in 0..40 {
+            for j in 0..40 {
+                for k in 0..6 {
+                    let b = [
+                        -1.0 + 0.05 * i as f64,
+                        -2.0 + 0.1 * j as f64,
+                        -1.0 + 0.4 * k as f64,
+                        0.7 + 0.01 * i as f64,
+                    ];
+                    let Some(cc) = CardanoCubic::new(b) else {
+                        continue;
+                    };
+                    if cc.delta > 0.0 {
+                        // r = 1/∛big to 5.2e-10 relative: u = big r² carries twice that and
+                        // v = −(p/3) r once (plus rounding).
+                        let (u, v) = cc.real_cube_roots();
+                        let bound = 5.2e-10 * (2.0 * u.abs() + v.abs()) + 1e-15;
+                        assert!((cc.x1_fast() - cc.x1()).abs() <= bound, "{b:?}");
+                        checked[0] += 1;
+                    } else if cc.delta < 0.0 {
+                        let fast = cc.branches_fast_delta_negative();
+                        let reference = cc.real_branches_delta_negative();
+                        let rho = (-cc.p / 3.0).sqrt();
+                        for (f, r) in fast.iter().zip(reference) {
+                            // cos(θ/3) to 3e-12 relative; sin(θ/3) = √(1 − c²) amplifies an
+                            // error δ of c by c/s, bounded via √(2δ) when s is tiny.
+                            assert!((f - r).abs() <= 2.0 * rho * 3e-6 + 1e-15, "{b:?}");
+                        }
+                        assert!((fast[0] - reference[0]).abs() <= 2.0 * rho * 3e-12 + 1e-15);
+                        checked[1] += 1;
+                    }
+                }
+            }
+        }
+        assert!(checked[0] > 100 && checked[1] > 100, "{checked:?}");
+    }
 }

@@ -34,6 +34,15 @@ use crate::{BbError, BbPoly};
 /// pending intervals then become clusters, which is still a correct, if coarse, answer).
 const MAX_INTERVALS: usize = 20_000;
 
+/// Intervals narrower than 2^-32 that are still undecided become clusters. Two simple roots
+/// at distance d of the normalised polynomial (max|b| = 1) differ from a double root by a
+/// perturbation of about `c d²/4` with `c = |p''|/2 ≤ n(n−1)·2`, which rounding (at least
+/// `E ≥ u`) hides unless `d ≥ 2√(u/(n(n−1)·2)) ≥ 3e-10` for n ≤ 32; 2^-32 ≈ 2.3e-10 is below
+/// that, so no resolvable pair is merged, and the descent along the edges of a cluster stops
+/// some 20 levels earlier than at the ulp scale. A cluster that is really one simple root of
+/// tiny slope is still classified as simple (its derivative is certified nonzero).
+const MIN_WIDTH: f64 = 1.0 / 4294967296.0;
+
 /// Split ratios tried in order: the midpoint first; the others avoid splitting exactly at a
 /// root (where the new end coefficient, the value there, would be uncertain on both sides and
 /// never resolve). Dyadic, so `1 − r` is exact.
@@ -118,7 +127,11 @@ fn sign_changes(c: &[f64], e: &[f64]) -> (bool, usize, usize) {
     let mut any_certain = false;
     for (&x, &err) in c.iter().zip(e) {
         let certain = x.abs() > err;
-        let (can_pos, can_neg) = if certain { (x > 0.0, x < 0.0) } else { (true, true) };
+        let (can_pos, can_neg) = if certain {
+            (x > 0.0, x < 0.0)
+        } else {
+            (true, true)
+        };
         let mut next = best;
         if certain {
             // A certain coefficient cannot be skipped.
@@ -185,8 +198,9 @@ fn interior_roots(q: &[f64], qe: &[f64], roots: &mut Vec<Root>) {
             });
             continue;
         }
-        // Below this width the endpoints are a few ulps apart: nothing left to resolve.
-        if width <= 16.0 * U * iv.hi {
+        // Below this width nothing is left to resolve: either the endpoints are a few ulps
+        // apart, or the interval is under MIN_WIDTH (see there).
+        if width <= (16.0 * U * iv.hi).max(MIN_WIDTH) {
             clusters.push((iv.lo, iv.hi));
             continue;
         }
@@ -295,7 +309,10 @@ mod tests {
         assert_eq!(sign_changes(&[1.0, 0.0, 1.0], &e[..3]), (false, 0, 2));
         assert_eq!(sign_changes(&[-1.0, 0.05, 1.0], &e[..3]), (false, 1, 1));
         assert_eq!(sign_changes(&[0.0, 0.05, -0.01], &e[..3]), (true, 0, 2));
-        assert_eq!(sign_changes(&[1.0, -1.0, 1.0, -1.0], &e[..4]), (false, 3, 3));
+        assert_eq!(
+            sign_changes(&[1.0, -1.0, 1.0, -1.0], &e[..4]),
+            (false, 3, 3)
+        );
     }
 
     #[test]

@@ -1,0 +1,640 @@
+//! `algesurf smooth [INPUT] -o OUTPUT`: a C1 A-patch surface (Xu–Huang–Bajaj 2001) through a
+//! triangle mesh and its vertex normals, tessellated and written as a mesh.
+//!
+//! Stages: read → repair (default steps) → triangle mesh → vertex normals → simplicial hull
+//! → the function F (together: construction) → tessellation → check (deviation from the
+//! input) → write. Each stage is timed; a spinner shows on stderr for stages longer than a
+//! second when stderr is a terminal.
+
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+use algesurf_apatch::{
+    ApatchSurface, FaceFunction, FreeParameterRule, PatchKind, SurfaceOptions, Tessellation,
+};
+use algesurf_hull::SimplicialHull;
+use algesurf_io::{PATCH_ID, WriteOptions};
+use algesurf_mesh::{
+    NormalMethod, PolygonMesh, Property, PropertyValues, RepairOptions, RepairReport, TriMesh,
+    TriangleBvh, repair, shapes, vertex_normals,
+};
+use glam::DVec3;
+use rayon::prelude::*;
+use serde_json::json;
+
+/// Exit status when the surface was written but some rays missed or had multiple roots.
+pub const EXIT_SURFACE_DEFECTS: u8 = 3;
+
+/// Name of the per-face property holding each output triangle's patch kind (PLY).
+pub const PATCH_KIND: &str = "patch_kind";
+
+/// The built-in mesh smoothed when no INPUT is given: the icosahedron. With its Loop normals
+/// (radial, by symmetry) and the default quadric free parameters the surface is exactly the
+/// unit sphere: 20 flat triangles in, a round sphere out, closed and watertight. (A coarse
+/// torus, `torus(12, 8, 1.5, 0.6)`, shows more of the method, saddle regions and nonconvex
+/// faces, and is valid and closed too, but has visible dents along its two parabolic circles.)
+const DEFAULT_MESH: &str = "built-in icosahedron (12 vertices, 20 triangles)";
+
+/// How `--normals` gives the vertex normals (the gradients of F at the vertices).
+#[derive(clap::ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SmoothNormals {
+    /// Normals of the Loop subdivision limit surface (the paper's choice).
+    Loop,
+    /// Area-weighted face normals.
+    Area,
+    /// Angle-weighted face normals.
+    Angle,
+    /// The normals stored in the input file (OBJ `vn`, PLY nx/ny/nz, glTF NORMAL).
+    File,
+}
+
+impl SmoothNormals {
+    fn method(self) -> NormalMethod {
+        match self {
+            SmoothNormals::Loop => NormalMethod::Loop,
+            SmoothNormals::Area => NormalMethod::Area,
+            SmoothNormals::Angle => NormalMethod::Angle,
+            SmoothNormals::File => NormalMethod::FromFile,
+        }
+    }
+    fn name(self) -> &'static str {
+        match self {
+            SmoothNormals::Loop => "loop",
+            SmoothNormals::Area => "area",
+            SmoothNormals::Angle => "angle",
+            SmoothNormals::File => "file",
+        }
+    }
+}
+
+/// How `--free-parameters` chooses the value of F at each tetrahedron apex.
+#[derive(clap::ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FreeParametersArg {
+    /// From a local quadric fit: reproduces spheres, ellipsoids and other quadrics exactly.
+    Quadric,
+    /// From a linear fit (the paper's Step 8): valid, but loses quadric precision.
+    Linear,
+}
+
+impl FreeParametersArg {
+    fn rule(self) -> FreeParameterRule {
+        match self {
+            FreeParametersArg::Quadric => FreeParameterRule::Quadric,
+            FreeParametersArg::Linear => FreeParameterRule::Linear,
+        }
+    }
+    fn name(self) -> &'static str {
+        match self {
+            FreeParametersArg::Quadric => "quadric",
+            FreeParametersArg::Linear => "linear",
+        }
+    }
+}
+
+/// Arguments of `algesurf smooth`.
+#[derive(clap::Args, Debug, Clone)]
+#[command(after_help = "\
+With no INPUT, smooths a built-in icosahedron (20 triangles) with Loop normals and writes \
+smooth.glb in the current directory (or -o): the result is the unit sphere, exactly (quadric \
+precision of the default free parameters).
+
+Output: positions, normals from ∇F, and per-vertex `patch_id` (PLY property, glTF _PATCH_ID; \
+a vertex shared by several patches gets the smallest of their ids); PLY also gets per-face \
+`patch_id` and `patch_kind` (0 face, 1 edge, 2 planar). Exit status 3: the surface was \
+written, but some rays missed or had a multiple root (see the warning).")]
+pub struct SmoothArgs {
+    /// Input mesh (OBJ, PLY, STL, OFF, glTF or GLB). Omit to smooth the built-in icosahedron.
+    pub input: Option<PathBuf>,
+    /// Output mesh; the format follows the extension (.obj .ply .stl .off .gltf .glb).
+    /// Required with INPUT; default `smooth.glb` without.
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
+    /// Points per patch edge minus one: face patches are triangular grids of this
+    /// resolution, edge patches have this many steps along the mesh edge.
+    #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub resolution: u32,
+    /// Steps across each edge patch (default: the resolution).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub across: Option<u32>,
+    /// Vertex normals (the gradients of the surface's function at the vertices).
+    #[arg(long, value_enum, default_value_t = SmoothNormals::Loop)]
+    pub normals: SmoothNormals,
+    /// Rule for the free parameters (the function's value at the tetrahedron apexes).
+    #[arg(long, value_enum, default_value_t = FreeParametersArg::Quadric)]
+    pub free_parameters: FreeParametersArg,
+    /// Also write the summary as JSON to this file.
+    #[arg(long)]
+    pub report: Option<PathBuf>,
+}
+
+type BoxError = Box<dyn std::error::Error>;
+
+/// Wall-clock seconds of each stage.
+#[derive(Debug, Default, Clone)]
+struct Timings {
+    read: f64,
+    repair: f64,
+    normals: f64,
+    hull: f64,
+    function: f64,
+    construction: f64,
+    tessellation: f64,
+    check: f64,
+    write: f64,
+}
+
+/// Runs `f`, timing it; with `progress`, shows a spinner named `name` on stderr once it has
+/// run for a second.
+fn stage<T>(name: &str, progress: bool, f: impl FnOnce() -> T) -> (T, f64) {
+    let start = Instant::now();
+    if !progress {
+        let r = f();
+        return (r, start.elapsed().as_secs_f64());
+    }
+    let (tx, rx) = mpsc::channel::<()>();
+    let r = std::thread::scope(|s| {
+        s.spawn(move || {
+            if rx.recv_timeout(Duration::from_secs(1)) != Err(mpsc::RecvTimeoutError::Timeout) {
+                return;
+            }
+            let bar = indicatif::ProgressBar::new_spinner().with_message(name.to_string());
+            bar.set_style(
+                indicatif::ProgressStyle::with_template("{spinner} {msg} {elapsed}")
+                    .unwrap_or_else(|_| indicatif::ProgressStyle::default_spinner()),
+            );
+            bar.enable_steady_tick(Duration::from_millis(100));
+            let _ = rx.recv(); // returns when the stage drops the sender
+            bar.finish_and_clear();
+        });
+        let r = f();
+        drop(tx);
+        r
+    });
+    (r, start.elapsed().as_secs_f64())
+}
+
+/// `path` made absolute and resolved as far as it exists (for comparing input and output).
+fn resolved(path: &Path) -> PathBuf {
+    if let Ok(p) = path.canonicalize() {
+        return p;
+    }
+    let abs = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
+    match (abs.parent(), abs.file_name()) {
+        (Some(dir), Some(name)) => dir.canonicalize().map(|d| d.join(name)).unwrap_or(abs),
+        _ => abs,
+    }
+}
+
+/// One line naming what repair changed ("welded 403 vertices, flipped 2 faces").
+fn repair_summary(r: &RepairReport) -> String {
+    if !r.changed() {
+        return "no repairs needed".into();
+    }
+    let mut parts = Vec::new();
+    let mut add = |n: usize, what: &str| {
+        if n > 0 {
+            parts.push(format!("{what} {n}"));
+        }
+    };
+    add(r.dropped_invalid_faces.len(), "dropped invalid faces:");
+    add(r.welded.len(), "welded vertices:");
+    add(r.collapsed_faces.len(), "collapsed faces:");
+    add(r.triangulated_faces.len(), "triangulated polygons:");
+    add(
+        r.dropped_degenerate_faces.len(),
+        "dropped degenerate faces:",
+    );
+    add(r.dropped_duplicate_faces.len(), "dropped duplicate faces:");
+    add(
+        r.detached_non_manifold_edges.len(),
+        "detached non-manifold edges:",
+    );
+    add(r.split_vertices.len(), "split non-manifold vertices:");
+    add(r.flipped_faces.len(), "flipped faces:");
+    add(r.dropped_unused_vertices.len(), "dropped unused vertices:");
+    add(r.non_orientable_components, "non-orientable components:");
+    parts.join(", ")
+}
+
+/// Counts of the surface's patches.
+#[derive(Debug, Default, Clone, Copy)]
+struct PatchCounts {
+    face: usize,
+    edge: usize,
+    planar: usize,
+    /// Face patches on nonconvex faces (three cubics per side on the centroid split).
+    split: usize,
+}
+
+fn patch_counts(surface: &ApatchSurface) -> PatchCounts {
+    let planar = surface
+        .faces()
+        .iter()
+        .filter(|f| matches!(f, FaceFunction::Planar))
+        .count();
+    PatchCounts {
+        face: surface.faces().len() - planar,
+        edge: surface
+            .edges()
+            .iter()
+            .filter(|e| e[0].is_some() || e[1].is_some())
+            .count(),
+        planar,
+        split: surface
+            .faces()
+            .iter()
+            .filter(|f| matches!(f, FaceFunction::Split(_)))
+            .count(),
+    }
+}
+
+fn kind_code(k: PatchKind) -> i64 {
+    match k {
+        PatchKind::Face => 0,
+        PatchKind::Edge => 1,
+        PatchKind::Planar => 2,
+    }
+}
+
+/// The output mesh: positions, ∇F normals, per-vertex patch id (the smallest patch id among
+/// the triangles using the vertex, so the vertex of a patch's interior gets that patch), and
+/// per-face patch id and kind.
+fn output_mesh(t: &Tessellation) -> PolygonMesh {
+    let mut mesh = PolygonMesh::from_triangles(t.positions.clone(), &t.triangles);
+    mesh.normals = Some(t.normals.clone());
+    let mut vertex_patch = vec![i64::MAX; t.positions.len()];
+    for (tri, &p) in t.triangles.iter().zip(&t.triangle_patch) {
+        for &v in tri {
+            let slot = &mut vertex_patch[v as usize];
+            *slot = (*slot).min(i64::from(p));
+        }
+    }
+    // Vertices no triangle uses (none in a valid tessellation) get patch 0.
+    for p in &mut vertex_patch {
+        if *p == i64::MAX {
+            *p = 0;
+        }
+    }
+    mesh.vertex_properties.push(Property {
+        name: PATCH_ID.into(),
+        values: PropertyValues::Int(vertex_patch),
+    });
+    mesh.face_properties.push(Property {
+        name: PATCH_ID.into(),
+        values: PropertyValues::Int(t.triangle_patch.iter().map(|&p| i64::from(p)).collect()),
+    });
+    mesh.face_properties.push(Property {
+        name: PATCH_KIND.into(),
+        values: PropertyValues::Int(t.triangle_kind.iter().map(|&k| kind_code(k)).collect()),
+    });
+    mesh
+}
+
+/// Largest distance from an output vertex to the input mesh, and the input's bbox diagonal.
+fn max_deviation(input: &TriMesh, points: &[DVec3]) -> (f64, f64) {
+    let bvh = TriangleBvh::new(input);
+    let diag = {
+        let b = input.bounding_box();
+        (b.max - b.min).length()
+    };
+    let d = points
+        .par_iter()
+        .map(|&p| bvh.closest_point(p).map_or(f64::INFINITY, |c| c.distance))
+        .reduce(|| 0.0, f64::max);
+    (d, diag)
+}
+
+/// Writes `text` to `path` through a temporary file in the same directory and a rename.
+fn write_atomic(path: &Path, text: &str) -> Result<(), BoxError> {
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "report".into());
+    let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
+    let result = std::fs::write(&tmp, text).and_then(|()| std::fs::rename(&tmp, path));
+    if let Err(e) = result {
+        let _ = std::fs::remove_file(&tmp);
+        return Err(format!("{}: cannot write the report: {e}", path.display()).into());
+    }
+    Ok(())
+}
+
+/// Smooths the input (or the built-in icosahedron) and writes the surface.
+///
+/// Returns the exit code: success, or [`EXIT_SURFACE_DEFECTS`] when rays missed or had
+/// multiple roots (the output is written all the same).
+///
+/// # Errors
+/// Unreadable input, a mesh the surface cannot be built on (the message names the file and
+/// the stage), an output or report path equal to the input, or a write failure.
+pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
+    let progress = std::io::stderr().is_terminal();
+    let total_start = Instant::now();
+    let source = args
+        .input
+        .as_ref()
+        .map_or_else(|| DEFAULT_MESH.to_string(), |p| p.display().to_string());
+    let output = match (&args.input, &args.output) {
+        (_, Some(o)) => o.clone(),
+        (None, None) => PathBuf::from("smooth.glb"),
+        (Some(_), None) => {
+            return Err("smooth: -o OUTPUT is required when an INPUT is given".into());
+        }
+    };
+    if let Some(input) = &args.input {
+        let inp = resolved(input);
+        if resolved(&output) == inp {
+            return Err(format!(
+                "{}: refusing to overwrite the input with the output",
+                input.display()
+            )
+            .into());
+        }
+        if args.report.as_deref().is_some_and(|r| resolved(r) == inp) {
+            return Err(format!(
+                "{}: refusing to overwrite the input with the report",
+                input.display()
+            )
+            .into());
+        }
+    }
+    if args
+        .report
+        .as_deref()
+        .is_some_and(|r| resolved(r) == resolved(&output))
+    {
+        return Err(format!(
+            "{}: the report and the output are the same file",
+            output.display()
+        )
+        .into());
+    }
+    let n = args.resolution as usize;
+    let m = args.across.unwrap_or(args.resolution) as usize;
+    let mut t = Timings::default();
+
+    // Read and repair (the built-in mesh needs neither).
+    let (tri, repair_text, repair_json) = match &args.input {
+        Some(path) => {
+            let (mesh, dt) = stage("reading", progress, || crate::read_mesh(path));
+            t.read = dt;
+            let mesh = mesh?;
+            let (repaired, dt) = stage("repairing", progress, || {
+                repair(&mesh, &RepairOptions::default())
+            });
+            t.repair = dt;
+            let repaired =
+                repaired.map_err(|e| format!("{}: repair failed: {e}", path.display()))?;
+            let r = &repaired.report;
+            let text = repair_summary(r);
+            let rj = json!({
+                "changed": r.changed(),
+                "summary": text,
+                "dropped_invalid_faces": r.dropped_invalid_faces.len(),
+                "welded_vertices": r.welded.len(),
+                "collapsed_faces": r.collapsed_faces.len(),
+                "triangulated_polygons": r.triangulated_faces.len(),
+                "dropped_degenerate_faces": r.dropped_degenerate_faces.len(),
+                "dropped_duplicate_faces": r.dropped_duplicate_faces.len(),
+                "detached_non_manifold_edges": r.detached_non_manifold_edges.len(),
+                "split_vertices": r.split_vertices.len(),
+                "flipped_faces": r.flipped_faces.len(),
+                "dropped_unused_vertices": r.dropped_unused_vertices.len(),
+                "non_orientable_components": r.non_orientable_components,
+            });
+            let tri = TriMesh::from_polygon_mesh(&repaired.mesh).map_err(|e| {
+                format!("{}: not a triangle mesh after repair: {e}", path.display())
+            })?;
+            (tri, text, rj)
+        }
+        None => (
+            shapes::icosphere(0),
+            "no repairs needed".to_string(),
+            json!({ "changed": false, "summary": "no repairs needed" }),
+        ),
+    };
+    if tri.face_count() == 0 {
+        return Err(format!("{source}: the mesh has no faces").into());
+    }
+
+    let (normals, dt) = stage("normals", progress, || {
+        vertex_normals(&tri, args.normals.method())
+    });
+    t.normals = dt;
+    let normals = normals.map_err(|e| {
+        let hint = if args.normals == SmoothNormals::File {
+            " (the file has no normals: use --normals loop)"
+        } else {
+            ""
+        };
+        format!("{source}: cannot compute normals: {e}{hint}")
+    })?;
+
+    let options = SurfaceOptions {
+        free_parameters: args.free_parameters.rule(),
+        ..SurfaceOptions::default()
+    };
+    // The hull alone, for the stage split (ApatchSurface::new builds it again).
+    let (hull, dt) = stage("building the simplicial hull", progress, || {
+        SimplicialHull::from_mesh(&tri, &normals, &options.hull)
+    });
+    t.hull = dt;
+    // Ids in hull and surface errors are those of the repaired mesh.
+    let ids_note = if repair_json["changed"] == true {
+        " (vertex and face ids are those after repair; `algesurf info` lists the repairs)"
+    } else {
+        ""
+    };
+    let hull =
+        hull.map_err(|e| format!("{source}: cannot build the simplicial hull: {e}{ids_note}"))?;
+    let refinements = hull.refinements().len();
+    let rounds = hull
+        .refinements()
+        .iter()
+        .map(|r| r.round + 1)
+        .max()
+        .unwrap_or(0);
+    drop(hull);
+    let (surface, dt) = stage("building the surface", progress, || {
+        ApatchSurface::new(&tri, &normals, &options)
+    });
+    t.construction = dt;
+    t.function = (t.construction - t.hull).max(0.0);
+    let surface =
+        surface.map_err(|e| format!("{source}: cannot build the surface: {e}{ids_note}"))?;
+
+    let (tess, dt) = stage("tessellating", progress, || surface.tessellate(n, m));
+    t.tessellation = dt;
+    let tess = tess.map_err(|e| format!("{source}: cannot tessellate: {e}"))?;
+
+    let ((deviation, diagonal), dt) = stage("checking", progress, || {
+        max_deviation(&tri, &tess.positions)
+    });
+    t.check = dt;
+    let min_margin = surface
+        .free_parameters()
+        .iter()
+        .map(|p| p.relative_margin)
+        .fold(f64::INFINITY, f64::min);
+    let counts = patch_counts(&surface);
+    let hull_faces = surface.hull().mesh().face_count();
+
+    let out_mesh = output_mesh(&tess);
+    let write_options = WriteOptions::default();
+    let (written, dt) = stage("writing", progress, || {
+        algesurf_io::write(&output, &out_mesh, &write_options)
+    });
+    t.write = dt;
+    written?;
+    let total = total_start.elapsed().as_secs_f64();
+
+    let missed = tess.missed_rays.len();
+    let multiple = tess.multiple_roots.len();
+    let ok = missed == 0 && multiple == 0;
+    let margin_json = if min_margin.is_finite() {
+        json!(min_margin)
+    } else {
+        json!(null)
+    };
+    let rel_dev = if diagonal > 0.0 {
+        deviation / diagonal
+    } else {
+        0.0
+    };
+    let report = json!({
+        "input": source,
+        "output": output.display().to_string(),
+        "options": {
+            "resolution": n,
+            "across": m,
+            "normals": args.normals.name(),
+            "free_parameters": args.free_parameters.name(),
+        },
+        "input_mesh": {
+            "vertices": tri.vertex_count(),
+            "faces": tri.face_count(),
+            "euler_characteristic": tri.euler_characteristic(),
+        },
+        "repair": repair_json,
+        "hull": {
+            "faces": hull_faces,
+            "refinements": refinements,
+            "refinement_rounds": rounds,
+        },
+        "patches": {
+            "face": counts.face,
+            "edge": counts.edge,
+            "planar": counts.planar,
+            "split_faces": counts.split,
+            "total": counts.face + counts.edge + counts.planar,
+        },
+        "output_mesh": {
+            "vertices": tess.positions.len(),
+            "triangles": tess.triangles.len(),
+        },
+        "free_parameters": {
+            "count": surface.free_parameters().len(),
+            "min_relative_margin": margin_json,
+        },
+        "deviation": {
+            "max": deviation,
+            "max_relative": rel_dev,
+            "bbox_diagonal": diagonal,
+        },
+        "missed_rays": missed,
+        "multiple_roots": multiple,
+        "ok": ok,
+        "timings_s": {
+            "read": t.read,
+            "repair": t.repair,
+            "normals": t.normals,
+            "hull": t.hull,
+            "function": t.function,
+            "construction": t.construction,
+            "tessellation": t.tessellation,
+            "check": t.check,
+            "write": t.write,
+            "total": total,
+        },
+    });
+
+    let ms = |s: f64| format!("{:.1} ms", s * 1e3);
+    let mut s = String::new();
+    {
+        use std::fmt::Write;
+        let _ = writeln!(s, "{source} → {}", output.display());
+        let _ = writeln!(s, "repair: {repair_text}");
+        let _ = writeln!(
+            s,
+            "faces in: {} ({} vertices); hull faces: {hull_faces} ({refinements} refinements in {rounds} rounds)",
+            tri.face_count(),
+            tri.vertex_count()
+        );
+        let _ = writeln!(
+            s,
+            "patches out: {} ({} face, of which {} on split nonconvex faces; {} edge; {} planar)",
+            counts.face + counts.edge + counts.planar,
+            counts.face,
+            counts.split,
+            counts.edge,
+            counts.planar
+        );
+        let _ = writeln!(
+            s,
+            "output: {} triangles, {} vertices (resolution {n}, across {m})",
+            tess.triangles.len(),
+            tess.positions.len()
+        );
+        let _ = writeln!(
+            s,
+            "time: read {}, repair {}, normals {}, hull {} (+{rounds} refinement rounds), function {}, tessellation {}, check {}, write {}; total {}",
+            ms(t.read),
+            ms(t.repair),
+            ms(t.normals),
+            ms(t.hull),
+            ms(t.function),
+            ms(t.tessellation),
+            ms(t.check),
+            ms(t.write),
+            ms(total)
+        );
+        let margin_text = if min_margin.is_finite() {
+            format!("{min_margin:.3e}")
+        } else {
+            "n/a (no free parameters)".into()
+        };
+        let _ = writeln!(s, "min free-parameter margin: {margin_text}");
+        let _ = writeln!(
+            s,
+            "max deviation from the input: {deviation:.3e} ({rel_dev:.3e} of the bbox diagonal)"
+        );
+        let _ = writeln!(s, "missed rays: {missed}, multiple roots: {multiple}");
+    }
+    {
+        use std::io::Write;
+        match std::io::stdout().lock().write_all(s.as_bytes()) {
+            Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => return Err(e.into()),
+            _ => {}
+        }
+    }
+    if let Some(path) = &args.report {
+        write_atomic(path, &(serde_json::to_string_pretty(&report)? + "\n"))?;
+    }
+    if ok {
+        Ok(ExitCode::SUCCESS)
+    } else {
+        eprintln!(
+            "algesurf: warning: {source}: the surface has {missed} missed rays and {multiple} rays with a multiple root \
+             (single-sheet violations); {} was written, but those points are not on a valid A-patch",
+            output.display()
+        );
+        Ok(ExitCode::from(EXIT_SURFACE_DEFECTS))
+    }
+}

@@ -1,0 +1,289 @@
+//! End-to-end tests of `algesurf smooth`: the binary on the built-in mesh, on an icosphere with
+//! exact sphere normals, its JSON report, and its errors.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use algesurf_io::PATCH_ID;
+use algesurf_mesh::{PolygonMesh, PropertyValues, shapes};
+
+/// A fresh, empty directory for one test, removed when dropped.
+struct TempDir(PathBuf);
+
+impl TempDir {
+    fn new(name: &str) -> TempDir {
+        let dir =
+            std::env::temp_dir().join(format!("algesurf-smooth-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).expect("create temp dir");
+        TempDir(dir)
+    }
+    fn path(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+fn algesurf(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_algesurf"))
+        .current_dir(dir)
+        .args(args)
+        .output()
+        .expect("run algesurf")
+}
+
+fn text(out: &Output) -> String {
+    format!(
+        "status {:?}\nstdout:\n{}\nstderr:\n{}",
+        out.status.code(),
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    )
+}
+
+/// Every undirected edge is used by exactly two triangles, once in each direction.
+fn assert_closed_manifold(mesh: &PolygonMesh) {
+    let mut edges: HashMap<(u32, u32), (usize, usize)> = HashMap::new();
+    for face in mesh.faces() {
+        assert_eq!(face.len(), 3, "triangles only");
+        for k in 0..3 {
+            let (a, b) = (face[k], face[(k + 1) % 3]);
+            assert_ne!(a, b, "degenerate triangle {face:?}");
+            let e = edges.entry((a.min(b), a.max(b))).or_default();
+            if a < b {
+                e.0 += 1;
+            } else {
+                e.1 += 1;
+            }
+        }
+    }
+    for (e, (fwd, back)) in &edges {
+        assert_eq!(
+            (*fwd, *back),
+            (1, 1),
+            "edge {e:?}: {fwd} + {back} triangles"
+        );
+    }
+}
+
+#[test]
+fn default_mesh_writes_a_closed_glb() {
+    let dir = TempDir::new("default");
+    let out = algesurf(dir.path(), &["smooth"]);
+    assert!(out.status.success(), "{}", text(&out));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    for key in [
+        "faces in: 20",
+        "patches out:",
+        "time:",
+        "min free-parameter margin",
+        "max deviation",
+    ] {
+        assert!(stdout.contains(key), "summary lacks {key:?}:\n{stdout}");
+    }
+    let glb = dir.path().join("smooth.glb");
+    let mesh = algesurf_io::read(&glb).expect("read smooth.glb back");
+    assert!(
+        mesh.face_count() >= 20 * 64,
+        "{} triangles",
+        mesh.face_count()
+    );
+    assert_closed_manifold(&mesh);
+    // A sphere: Euler characteristic 2, every point on the unit sphere (to f32 precision).
+    let edges = mesh.face_count() * 3 / 2;
+    assert_eq!(
+        mesh.vertex_count() as i64 - edges as i64 + mesh.face_count() as i64,
+        2
+    );
+    let worst = mesh
+        .positions
+        .iter()
+        .map(|p| (p.length() - 1.0).abs())
+        .fold(0.0, f64::max);
+    assert!(worst <= 1e-6, "max | |p| − 1 | = {worst:e}");
+    let patch = mesh
+        .vertex_properties
+        .iter()
+        .find(|p| p.name == PATCH_ID)
+        .expect("_PATCH_ID read back");
+    assert_eq!(patch.values.len(), mesh.vertex_count());
+    assert!(mesh.normals.is_some(), "normals written");
+}
+
+/// An OBJ of the icosphere with the exact radial normals as `vn` lines.
+fn icosphere_obj(level: u32) -> String {
+    use std::fmt::Write;
+    let m = shapes::icosphere(level);
+    let mut s = String::new();
+    for p in m.positions() {
+        let _ = writeln!(s, "v {:?} {:?} {:?}", p.x, p.y, p.z);
+    }
+    for p in m.positions() {
+        let n = p.normalize();
+        let _ = writeln!(s, "vn {:?} {:?} {:?}", n.x, n.y, n.z);
+    }
+    for t in m.triangles() {
+        let [a, b, c] = t.map(|v| v + 1);
+        let _ = writeln!(s, "f {a}//{a} {b}//{b} {c}//{c}");
+    }
+    s
+}
+
+#[test]
+fn icosphere_with_sphere_normals_gives_the_sphere() {
+    let dir = TempDir::new("sphere");
+    std::fs::write(dir.path().join("ico.obj"), icosphere_obj(1)).unwrap();
+    let out = algesurf(
+        dir.path(),
+        &[
+            "smooth",
+            "ico.obj",
+            "-o",
+            "sphere.ply",
+            "--normals",
+            "file",
+            "--resolution",
+            "5",
+            "--report",
+            "report.json",
+        ],
+    );
+    assert!(out.status.success(), "{}", text(&out));
+    let mesh = algesurf_io::read(dir.path().join("sphere.ply")).expect("read sphere.ply");
+    assert_closed_manifold(&mesh);
+    let worst = mesh
+        .positions
+        .iter()
+        .map(|p| (p.length() - 1.0).abs())
+        .fold(0.0, f64::max);
+    assert!(worst <= 1e-9, "max | |p| − 1 | = {worst:e}");
+    // PLY keeps the per-face patch id and kind as well as the per-vertex patch id.
+    for name in ["patch_id", "patch_kind"] {
+        let p = mesh
+            .face_properties
+            .iter()
+            .find(|p| p.name == name)
+            .unwrap_or_else(|| panic!("face property {name}"));
+        assert_eq!(p.values.len(), mesh.face_count());
+    }
+    let kinds = match &mesh
+        .face_properties
+        .iter()
+        .find(|p| p.name == "patch_kind")
+        .unwrap()
+        .values
+    {
+        PropertyValues::Int(v) => v.clone(),
+        PropertyValues::Float(v) => v.iter().map(|&x| x as i64).collect(),
+    };
+    assert!(
+        kinds.contains(&0) && kinds.contains(&1),
+        "face and edge patches"
+    );
+    assert!(mesh.vertex_properties.iter().any(|p| p.name == PATCH_ID));
+
+    // The report.
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("report.json")).unwrap())
+            .expect("report is JSON");
+    assert_eq!(json["input_mesh"]["faces"], 80);
+    assert_eq!(json["patches"]["face"], 80);
+    assert_eq!(json["patches"]["edge"], 120);
+    assert_eq!(json["patches"]["planar"], 0);
+    assert_eq!(
+        json["output_mesh"]["triangles"].as_u64(),
+        Some(mesh.face_count() as u64)
+    );
+    assert_eq!(json["missed_rays"], 0);
+    assert_eq!(json["multiple_roots"], 0);
+    assert_eq!(json["ok"], true);
+    assert_eq!(json["options"]["normals"], "file");
+    assert_eq!(json["options"]["resolution"], 5);
+    for stage in [
+        "read",
+        "repair",
+        "normals",
+        "hull",
+        "function",
+        "construction",
+        "tessellation",
+        "check",
+        "write",
+        "total",
+    ] {
+        let t = json["timings_s"][stage]
+            .as_f64()
+            .unwrap_or_else(|| panic!("timings_s.{stage}"));
+        assert!(t >= 0.0);
+    }
+    assert!(
+        json["free_parameters"]["min_relative_margin"]
+            .as_f64()
+            .unwrap()
+            > 0.0
+    );
+    let dev = json["deviation"]["max_relative"].as_f64().unwrap();
+    assert!(dev > 0.0 && dev < 0.05, "deviation {dev}");
+    assert!(json["repair"]["changed"].is_boolean());
+}
+
+#[test]
+fn bad_input_fails_naming_the_file() {
+    let dir = TempDir::new("bad");
+    // Missing file.
+    let out = algesurf(dir.path(), &["smooth", "missing.obj", "-o", "out.ply"]);
+    assert!(!out.status.success(), "{}", text(&out));
+    assert!(
+        String::from_utf8_lossy(&out.stderr).contains("missing.obj"),
+        "{}",
+        text(&out)
+    );
+    // Malformed file.
+    std::fs::write(dir.path().join("junk.obj"), "v 0 0 0\nf 1 2 banana\n").unwrap();
+    let out = algesurf(dir.path(), &["smooth", "junk.obj", "-o", "out.ply"]);
+    assert!(!out.status.success(), "{}", text(&out));
+    assert!(
+        String::from_utf8_lossy(&out.stderr).contains("junk.obj"),
+        "{}",
+        text(&out)
+    );
+    assert!(!dir.path().join("out.ply").exists());
+}
+
+#[test]
+fn never_overwrites_the_input() {
+    let dir = TempDir::new("overwrite");
+    let obj = icosphere_obj(0);
+    std::fs::write(dir.path().join("ico.obj"), &obj).unwrap();
+    for args in [
+        &["smooth", "ico.obj", "-o", "ico.obj"][..],
+        &["smooth", "ico.obj", "-o", "./ico.obj"][..],
+        &["smooth", "ico.obj", "-o", "out.ply", "--report", "ico.obj"][..],
+    ] {
+        let out = algesurf(dir.path(), args);
+        assert!(!out.status.success(), "{args:?}: {}", text(&out));
+        assert!(
+            String::from_utf8_lossy(&out.stderr).contains("ico.obj"),
+            "{}",
+            text(&out)
+        );
+    }
+    assert_eq!(
+        std::fs::read_to_string(dir.path().join("ico.obj")).unwrap(),
+        obj
+    );
+    // An INPUT needs -o.
+    let out = algesurf(dir.path(), &["smooth", "ico.obj"]);
+    assert!(!out.status.success(), "{}", text(&out));
+    assert!(
+        String::from_utf8_lossy(&out.stderr).contains("-o"),
+        "{}",
+        text(&out)
+    );
+}
