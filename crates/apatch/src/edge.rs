@@ -90,8 +90,18 @@ impl EdgeCubic {
     /// Builds the edge cubic for the mesh edge `(p_i, p_j)` from the face cubics on its two
     /// sides: `face_k` (apex `u_k`) and `face_l` (apex `u_l`). The free parameters of both
     /// faces must already be set (the edge cubic depends on them linearly).
-    pub fn new(pi: DVec3, pj: DVec3, face_k: &FaceCubic, face_l: &FaceCubic) -> Result<Self, ApatchError> {
-        Self::from_neighbours(pi, pj, &face_k.edge_neighbour(pi, pj)?, &face_l.edge_neighbour(pi, pj)?)
+    pub fn new(
+        pi: DVec3,
+        pj: DVec3,
+        face_k: &FaceCubic,
+        face_l: &FaceCubic,
+    ) -> Result<Self, ApatchError> {
+        Self::from_neighbours(
+            pi,
+            pj,
+            &face_k.edge_neighbour(pi, pj)?,
+            &face_l.edge_neighbour(pi, pj)?,
+        )
     }
 
     /// Builds the edge cubic from the two sides' [`EdgeNeighbour`]s (convex or split faces).

@@ -29,10 +29,10 @@ pub fn face_bound(level: usize, base: impl Fn([f64; 3]) -> [f64; 4]) -> f64 {
             let q = [i as f64, j as f64, k as f64].map(|x| x / level as f64);
             let b = base(q);
             // Lemma 2.3 needs b_0 < 0; where b_0 ≥ 0 the ray starts on the surface (t = 0).
-            if b[0] < 0.0 {
-                if let Ok(bound) = lemma_2_3_b_min(b, 1.0) {
-                    worst = worst.max(bound.b_min);
-                }
+            if b[0] < 0.0
+                && let Ok(bound) = lemma_2_3_b_min(b, 1.0)
+            {
+                worst = worst.max(bound.b_min);
             }
         }
     }
@@ -52,7 +52,13 @@ pub fn lifted_b_min(base: [f64; 4], lift: [f64; 4]) -> Option<f64> {
     let scale = lift.iter().fold(0.0f64, |m, x| m.max(x.abs()));
     // The lift's layers 0 and 1 vanish exactly in exact arithmetic; 1e-12 of its size allows
     // for the rounding of the blossoms that produce it.
-    if b0 >= 0.0 || l0.abs() > 1e-12 * scale || l1.abs() > 1e-12 * scale || c2 < 0.0 || c3 < 0.0 || scale == 0.0 {
+    if b0 >= 0.0
+        || l0.abs() > 1e-12 * scale
+        || l1.abs() > 1e-12 * scale
+        || c2 < 0.0
+        || c3 < 0.0
+        || scale == 0.0
+    {
         return None;
     }
     let phi = |t: f64| {
@@ -61,8 +67,20 @@ pub fn lifted_b_min(base: [f64; 4], lift: [f64; 4]) -> Option<f64> {
         let f3 = b0 * s * s * s + 3.0 * b1 * t * s * s + 3.0 * b2 * t * t * s + b3 * t * t * t;
         let w2 = c2 * t * t;
         let w3 = 3.0 * c2 * t * t * s + c3 * t * t * t;
-        let need2 = if w2 > 0.0 { -f2 / w2 } else if f2 > 0.0 { f64::NEG_INFINITY } else { f64::INFINITY };
-        let need3 = if w3 > 0.0 { -f3 / w3 } else if f3 > 0.0 { f64::NEG_INFINITY } else { f64::INFINITY };
+        let need2 = if w2 > 0.0 {
+            -f2 / w2
+        } else if f2 > 0.0 {
+            f64::NEG_INFINITY
+        } else {
+            f64::INFINITY
+        };
+        let need3 = if w3 > 0.0 {
+            -f3 / w3
+        } else if f3 > 0.0 {
+            f64::NEG_INFINITY
+        } else {
+            f64::INFINITY
+        };
         need2.max(need3)
     };
     const SAMPLES: usize = 64;
@@ -76,9 +94,16 @@ pub fn lifted_b_min(base: [f64; 4], lift: [f64; 4]) -> Option<f64> {
         }
     }
     if !best.is_finite() {
-        return if best < 0.0 { Some(f64::NEG_INFINITY) } else { None };
+        return if best < 0.0 {
+            Some(f64::NEG_INFINITY)
+        } else {
+            None
+        };
     }
-    let (mut lo, mut hi) = ((best_k as f64 - 1.0).max(0.5) / SAMPLES as f64, ((best_k + 1) as f64 / SAMPLES as f64).min(1.0));
+    let (mut lo, mut hi) = (
+        (best_k as f64 - 1.0).max(0.5) / SAMPLES as f64,
+        ((best_k + 1) as f64 / SAMPLES as f64).min(1.0),
+    );
     let g = 0.5 * (5f64.sqrt() - 1.0);
     for _ in 0..40 {
         let a = hi - g * (hi - lo);

@@ -90,7 +90,12 @@ impl System {
         for lambda in multi_index::iter::<4>(3).filter(|l| l[opp] <= 1) {
             let w = continuation_weights(a, b, lambda);
             let mut terms = vec![(ib * 20 + multi_index::rank(&lambda), 1.0)];
-            terms.extend(w.iter().enumerate().filter(|(_, x)| **x != 0.0).map(|(r, x)| (ia * 20 + r, -x)));
+            terms.extend(
+                w.iter()
+                    .enumerate()
+                    .filter(|(_, x)| **x != 0.0)
+                    .map(|(r, x)| (ia * 20 + r, -x)),
+            );
             self.push(terms, 0.0);
         }
     }
@@ -152,7 +157,10 @@ impl SplitFace {
                 // Mid-edge transversal gradient at m = (p_b + p_c)/2 in two directions.
                 let m = [0.5, 0.5, 0.0, 0.0];
                 let g = mid_gradients[a];
-                for d in [c - foot(c, p[b], p[cc]), apexes[side] - foot(apexes[side], p[b], p[cc])] {
+                for d in [
+                    c - foot(c, p[b], p[cc]),
+                    apexes[side] - foot(apexes[side], p[b], p[cc]),
+                ] {
                     let dir = tets[ti].barycentric_direction(d);
                     let mut terms = Vec::new();
                     for (r, mu) in multi_index::iter::<4>(3).enumerate() {
@@ -185,8 +193,22 @@ impl SplitFace {
             let side = ti / 3;
             let mut qp = PowerPoly::<4>::zero(2);
             let a = q.a.to_cols_array_2d();
-            let names = [[2, 0, 0], [0, 2, 0], [0, 0, 2], [1, 1, 0], [1, 0, 1], [0, 1, 1]];
-            let vals = [a[0][0], a[1][1], a[2][2], 2.0 * a[0][1], 2.0 * a[0][2], 2.0 * a[1][2]];
+            let names = [
+                [2, 0, 0],
+                [0, 2, 0],
+                [0, 0, 2],
+                [1, 1, 0],
+                [1, 0, 1],
+                [0, 1, 1],
+            ];
+            let vals = [
+                a[0][0],
+                a[1][1],
+                a[2][2],
+                2.0 * a[0][1],
+                2.0 * a[0][2],
+                2.0 * a[1][2],
+            ];
             for (e, val) in names.iter().zip(vals) {
                 qp.set(e, val)?;
             }
@@ -225,7 +247,8 @@ impl SplitFace {
         for (k, &j) in free.iter().enumerate() {
             col[j] = k;
         }
-        let coupled: Vec<&(Vec<(usize, f64)>, f64)> = sys.rows.iter().filter(|(t, _)| t.len() > 1).collect();
+        let coupled: Vec<&(Vec<(usize, f64)>, f64)> =
+            sys.rows.iter().filter(|(t, _)| t.len() > 1).collect();
         let mut a_mat = DMatrix::<f64>::zeros(coupled.len(), free.len());
         let mut rhs = DVector::<f64>::zeros(coupled.len());
         for (i, (terms, r)) in coupled.iter().enumerate() {
@@ -256,7 +279,8 @@ impl SplitFace {
                 xf += step;
             }
         }
-        let residual = (&a_mat * &xf - &rhs).amax() / rhs.amax().max(target.amax()).max(f64::MIN_POSITIVE);
+        let residual =
+            (&a_mat * &xf - &rhs).amax() / rhs.amax().max(target.amax()).max(f64::MIN_POSITIVE);
         let mut x = DVector::<f64>::zeros(n);
         for j in 0..n {
             x[j] = match fixed[j] {
@@ -268,7 +292,8 @@ impl SplitFace {
         for side in 0..apexes.len() {
             let polys = std::array::from_fn(|a| {
                 let ti = side * 3 + a;
-                BbPoly::new(3, x.as_slice()[ti * 20..ti * 20 + 20].to_vec()).expect("20 coefficients")
+                BbPoly::new(3, x.as_slice()[ti * 20..ti * 20 + 20].to_vec())
+                    .expect("20 coefficients")
             });
             let ts = std::array::from_fn(|a| tets[side * 3 + a]);
             sides.push(SplitSide { tets: ts, polys });

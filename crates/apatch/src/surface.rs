@@ -1,13 +1,13 @@
 //! The whole C1 function F over the simplicial hull of a mesh, and its free parameters.
 
 use crate::sheet::{face_bound, lifted_b_min};
-use algesurf_bb::BbPoly;
-use std::collections::HashMap;
 use crate::{ApatchError, EdgeCubic, EdgeNeighbour, FaceCubic, Quadric, SplitFace, VertexData};
+use algesurf_bb::BbPoly;
 use algesurf_hull::{Convexity, HullOptions, Side, SimplicialHull};
 use algesurf_mesh::TriMesh;
 use glam::DVec3;
 use rayon::prelude::*;
+use std::collections::HashMap;
 
 /// How the free parameters `f_0003` (the value of F at each apex) are chosen.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -64,8 +64,8 @@ pub enum FaceFunction {
     Convex {
         /// Which side the tetrahedron is on.
         side: Side,
-        /// The cubic.
-        cubic: FaceCubic,
+        /// The cubic (boxed: it is large next to `Planar`).
+        cubic: Box<FaceCubic>,
     },
     /// A nonconvex face: three cubics on each side (index 0 positive, 1 negative).
     Split(SplitFace),
@@ -73,9 +73,16 @@ pub enum FaceFunction {
 
 impl FaceFunction {
     /// The [`EdgeNeighbour`] on `side` for the face edge `(pi, pj)`.
-    pub fn edge_neighbour(&self, side: Side, pi: DVec3, pj: DVec3) -> Result<EdgeNeighbour, ApatchError> {
+    pub fn edge_neighbour(
+        &self,
+        side: Side,
+        pi: DVec3,
+        pj: DVec3,
+    ) -> Result<EdgeNeighbour, ApatchError> {
         match (self, side) {
-            (FaceFunction::Convex { side: s, cubic }, _) if *s == side => cubic.edge_neighbour(pi, pj),
+            (FaceFunction::Convex { side: s, cubic }, _) if *s == side => {
+                cubic.edge_neighbour(pi, pj)
+            }
             (FaceFunction::Split(split), Side::Positive) => split.sides[0].edge_neighbour(pi, pj),
             (FaceFunction::Split(split), Side::Negative) => split.sides[1].edge_neighbour(pi, pj),
             _ => Err(ApatchError::Inconsistent(format!(
@@ -141,7 +148,10 @@ fn neighbourhood(mesh: &TriMesh, grads: &[DVec3], f: usize) -> Vec<(DVec3, DVec3
             }
         }
     }
-    verts.iter().map(|&v| (mesh.positions()[v as usize], grads[v as usize])).collect()
+    verts
+        .iter()
+        .map(|&v| (mesh.positions()[v as usize], grads[v as usize]))
+        .collect()
 }
 
 /// The base (apex value 0) shooting coefficients `c − f·(0, 0, 1/3, 1)` of (4.14).
@@ -151,20 +161,36 @@ fn without_apex(c: [f64; 4], f: f64) -> [f64; 4] {
 
 /// Scale of a face's coefficients: `max |∇F| · longest edge`.
 fn coefficient_scale(p: [DVec3; 3], g: [DVec3; 3]) -> f64 {
-    let edge = (0..3).map(|a| p[a].distance(p[(a + 1) % 3])).fold(0.0, f64::max);
+    let edge = (0..3)
+        .map(|a| p[a].distance(p[(a + 1) % 3]))
+        .fold(0.0, f64::max);
     g.iter().map(|x| x.length()).fold(0.0, f64::max) * edge
 }
 
 impl ApatchSurface {
     /// Builds the hull of `mesh` with unit vertex `normals` (the gradients of F at the
     /// vertices) and the function F on it.
-    pub fn new(mesh: &TriMesh, normals: &[DVec3], options: &SurfaceOptions) -> Result<Self, ApatchError> {
+    pub fn new(
+        mesh: &TriMesh,
+        normals: &[DVec3],
+        options: &SurfaceOptions,
+    ) -> Result<Self, ApatchError> {
         let (normals, adjusted_normals) = if options.condition_normals {
-            algesurf_mesh::condition_normals(mesh, normals, algesurf_mesh::DEFAULT_MIN_NORMAL_COSINE)
+            algesurf_mesh::condition_normals(
+                mesh,
+                normals,
+                algesurf_mesh::DEFAULT_MIN_NORMAL_COSINE,
+            )
         } else {
             (normals.to_vec(), Vec::new())
         };
         let hull = SimplicialHull::from_mesh(mesh, &normals, &options.hull)?;
+        // Refinement may condition more normals (input vertices keep their ids in the hull's
+        // mesh, so the two lists share one numbering).
+        let mut adjusted_normals = adjusted_normals;
+        adjusted_normals.extend_from_slice(hull.adjusted_normals());
+        adjusted_normals.sort_unstable();
+        adjusted_normals.dedup();
         let m = hull.mesh();
         let grads = hull.normals();
         let pos = m.positions();
@@ -184,7 +210,13 @@ impl ApatchSurface {
         // increment its edges need (raising only helps every other ray, Lemma 2.3).
         let raise = edge_increments(&hull, &faces, &edges, options)?;
         if raise.is_empty() {
-            return Ok(ApatchSurface { hull, faces, edges, parameters, adjusted_normals });
+            return Ok(ApatchSurface {
+                hull,
+                faces,
+                edges,
+                parameters,
+                adjusted_normals,
+            });
         }
         let sq = apex_square();
         for (&(f, side), &delta) in &raise {
@@ -199,13 +231,22 @@ impl ApatchSurface {
                 }
                 FaceFunction::Planar => {}
             }
-            for p in parameters.iter_mut().filter(|p| p.face == f && p.side == side) {
+            for p in parameters
+                .iter_mut()
+                .filter(|p| p.face == f && p.side == side)
+            {
                 p.value += sign * delta;
                 p.relative_margin = (p.value - p.bound).abs() / p.scale;
             }
         }
         let edges = build_edges(&hull, &faces)?;
-        Ok(ApatchSurface { hull, faces, edges, parameters, adjusted_normals })
+        Ok(ApatchSurface {
+            hull,
+            faces,
+            edges,
+            parameters,
+            adjusted_normals,
+        })
     }
 
     /// Vertices whose normals were changed so the hull could use them (see
@@ -247,7 +288,10 @@ fn build_face(
     let tri = m.triangles()[f];
     let p = tri.map(|v| pos[v as usize]);
     let g = tri.map(|v| grads[v as usize]);
-    let v = [0, 1, 2].map(|a| VertexData { position: p[a], gradient: g[a] });
+    let v = [0, 1, 2].map(|a| VertexData {
+        position: p[a],
+        gradient: g[a],
+    });
     let mids = [0, 1, 2].map(|a| (g[(a + 1) % 3] + g[(a + 2) % 3]) * 0.5);
     let scale = coefficient_scale(p, g).max(f64::MIN_POSITIVE);
     let margin = options.sheet_margin * scale;
@@ -256,7 +300,11 @@ fn build_face(
         FreeParameterRule::Linear => {
             let n = (g[0] + g[1] + g[2]) / 3.0;
             let c = (p[0] + p[1] + p[2]) / 3.0;
-            Quadric { a: glam::DMat3::ZERO, b: n, c: -n.dot(c) }
+            Quadric {
+                a: glam::DMat3::ZERO,
+                b: n,
+                c: -n.dot(c),
+            }
         }
     };
     let param = |side: Side, value: f64, bound: f64| FreeParameter {
@@ -270,8 +318,15 @@ fn build_face(
     match hf.convexity {
         Convexity::ZeroConvex => Ok((FaceFunction::Planar, Vec::new())),
         Convexity::PositiveConvex | Convexity::NegativeConvex => {
-            let side = if hf.convexity == Convexity::PositiveConvex { Side::Positive } else { Side::Negative };
-            let apex = hf.tetrahedron(side).expect("convex faces carry their tetrahedron").apex;
+            let side = if hf.convexity == Convexity::PositiveConvex {
+                Side::Positive
+            } else {
+                Side::Negative
+            };
+            let apex = hf
+                .tetrahedron(side)
+                .expect("convex faces carry their tetrahedron")
+                .apex;
             let sign = if side == Side::Positive { 1.0 } else { -1.0 };
             let mut cubic = FaceCubic::new(v, apex, mids, quadric.value(apex))?;
             let f0 = cubic.f0003();
@@ -279,9 +334,19 @@ fn build_face(
             let b = face_bound(options.bound_level, |q| {
                 without_apex(cubic.shooting_polynomial(q), f0).map(|x| sign * x)
             });
-            let value = if b.is_finite() { (sign * f0).max(b + margin) * sign } else { f0 };
+            let value = if b.is_finite() {
+                (sign * f0).max(b + margin) * sign
+            } else {
+                f0
+            };
             cubic.set_f0003(value);
-            Ok((FaceFunction::Convex { side, cubic }, vec![param(side, value, sign * b)]))
+            Ok((
+                FaceFunction::Convex {
+                    side,
+                    cubic: Box::new(cubic),
+                },
+                vec![param(side, value, sign * b)],
+            ))
         }
         Convexity::Nonconvex => {
             let apexes = [hf.u().expect("nonconvex: u"), hf.v().expect("nonconvex: v")];
@@ -302,7 +367,8 @@ fn build_face(
                 for a in 0..3 {
                     let poly = &side.polys[a];
                     worst = worst.max(face_bound(options.bound_level, |q| {
-                        let c = poly.restrict_to_segment([q[0], q[1], q[2], 0.0], [0.0, 0.0, 0.0, 1.0]);
+                        let c =
+                            poly.restrict_to_segment([q[0], q[1], q[2], 0.0], [0.0, 0.0, 0.0, 1.0]);
                         let c = [c.coeffs()[0], c.coeffs()[1], c.coeffs()[2], c.coeffs()[3]];
                         without_apex(c, values[s]).map(|x| sign * x)
                     }));
@@ -327,16 +393,26 @@ fn build_face(
     }
 }
 
-fn build_edges(hull: &SimplicialHull, faces: &[FaceFunction]) -> Result<Vec<[Option<EdgeCubic>; 2]>, ApatchError> {
+fn build_edges(
+    hull: &SimplicialHull,
+    faces: &[FaceFunction],
+) -> Result<Vec<[Option<EdgeCubic>; 2]>, ApatchError> {
     let pos = hull.mesh().positions();
     hull.edges()
         .par_iter()
         .map(|e| -> Result<[Option<EdgeCubic>; 2], ApatchError> {
-            let (Some(fl), pi, pj) = (e.face_l, pos[e.vertices[0] as usize], pos[e.vertices[1] as usize]) else {
+            let (Some(fl), pi, pj) = (
+                e.face_l,
+                pos[e.vertices[0] as usize],
+                pos[e.vertices[1] as usize],
+            ) else {
                 return Ok([None, None]);
             };
             let mut out = [None, None];
-            for (slot, side, present) in [(0, Side::Positive, e.positive.is_some()), (1, Side::Negative, e.negative.is_some())] {
+            for (slot, side, present) in [
+                (0, Side::Positive, e.positive.is_some()),
+                (1, Side::Negative, e.negative.is_some()),
+            ] {
                 if present {
                     let k = faces[e.face_k as usize].edge_neighbour(side, pi, pj)?;
                     let l = faces[fl as usize].edge_neighbour(side, pi, pj)?;
@@ -348,6 +424,9 @@ fn build_edges(hull: &SimplicialHull, faces: &[FaceFunction]) -> Result<Vec<[Opt
         .collect()
 }
 
+/// Increments of apex values an edge asks for: `((face, side), δ)`.
+type Needs = Vec<((usize, Side), f64)>;
+
 /// Per face side, the increment of its apex value that its edges need (Step 6 with
 /// [`lifted_b_min`]), only where positive.
 fn edge_increments(
@@ -358,23 +437,36 @@ fn edge_increments(
 ) -> Result<HashMap<(usize, Side), f64>, ApatchError> {
     let pos = hull.mesh().positions();
     let sq = apex_square();
-    let needs: Vec<Vec<((usize, Side), f64)>> = hull
+    let needs: Vec<Needs> = hull
         .edges()
         .par_iter()
         .enumerate()
-        .map(|(e, he)| -> Result<Vec<((usize, Side), f64)>, ApatchError> {
-            let Some(fl) = he.face_l else { return Ok(Vec::new()) };
+        .map(|(e, he)| -> Result<Needs, ApatchError> {
+            let Some(fl) = he.face_l else {
+                return Ok(Vec::new());
+            };
             let (pi, pj) = (pos[he.vertices[0] as usize], pos[he.vertices[1] as usize]);
             let mut out = Vec::new();
-            for (slot, side, sign) in [(0usize, Side::Positive, 1.0), (1usize, Side::Negative, -1.0)] {
-                let Some(cubic) = &edges[e][slot] else { continue };
+            for (slot, side, sign) in [
+                (0usize, Side::Positive, 1.0),
+                (1usize, Side::Negative, -1.0),
+            ] {
+                let Some(cubic) = &edges[e][slot] else {
+                    continue;
+                };
                 let k = faces[he.face_k as usize].edge_neighbour(side, pi, pj)?;
                 let l = faces[fl as usize].edge_neighbour(side, pi, pj)?;
                 let lift = EdgeCubic::from_neighbours(
                     pi,
                     pj,
-                    &EdgeNeighbour { tet: k.tet, poly: sq.clone() },
-                    &EdgeNeighbour { tet: l.tet, poly: sq.clone() },
+                    &EdgeNeighbour {
+                        tet: k.tet,
+                        poly: sq.clone(),
+                    },
+                    &EdgeNeighbour {
+                        tet: l.tet,
+                        poly: sq.clone(),
+                    },
                 )?;
                 let margin = options.sheet_margin * cubic.polynomial().max_coeff_norm();
                 let two_sided = edges[e][0].is_some() && edges[e][1].is_some();

@@ -81,14 +81,32 @@ fn shoot(q: DVec3, apex: DVec3, c: [f64; 4], sign: f64, grad: impl Fn(DVec3) -> 
     // mesh edge where F vanishes identical from every side.
     let scale = c.iter().fold(0.0f64, |m, x| m.max(x.abs()));
     if c[0] == 0.0 || c[0].abs() <= 8.0 * f64::EPSILON * scale {
-        return RayPoint { position: q, normal: grad(q).normalize_or_zero(), at_start: true, missed: false, multiple: false };
+        return RayPoint {
+            position: q,
+            normal: grad(q).normalize_or_zero(),
+            at_start: true,
+            missed: false,
+            multiple: false,
+        };
     }
     match root(c, sign) {
         Some((t, simple)) => {
             let x = q + (apex - q) * t;
-            RayPoint { position: x, normal: grad(x).normalize_or_zero(), at_start: t == 0.0, missed: false, multiple: !simple }
+            RayPoint {
+                position: x,
+                normal: grad(x).normalize_or_zero(),
+                at_start: t == 0.0,
+                missed: false,
+                multiple: !simple,
+            }
         }
-        None => RayPoint { position: apex, normal: grad(apex).normalize_or_zero(), at_start: false, missed: true, multiple: false },
+        None => RayPoint {
+            position: apex,
+            normal: grad(apex).normalize_or_zero(),
+            at_start: false,
+            missed: true,
+            multiple: false,
+        },
     }
 }
 
@@ -121,17 +139,27 @@ impl ApatchSurface {
                     let back = [alpha[0], alpha[1], alpha[2], 0.0].map(|x| 2.0 * x);
                     let mut back = back;
                     back[3] = -1.0;
-                    let poly = cubic.polynomial().restrict_to_segment([alpha[0], alpha[1], alpha[2], 0.0], back);
+                    let poly = cubic
+                        .polynomial()
+                        .restrict_to_segment([alpha[0], alpha[1], alpha[2], 0.0], back);
                     let r = c[0] - poly.coeffs()[0];
-                    let cb: [f64; 4] = std::array::from_fn(|k| poly.coeffs()[k] + r * (1u32 << k) as f64);
+                    let cb: [f64; 4] =
+                        std::array::from_fn(|k| poly.coeffs()[k] + r * (1u32 << k) as f64);
                     shoot(q, q * 2.0 - apex, cb, -sign, |x| cubic.value_gradient(x).1)
                 }
             }
             FaceFunction::Split(split) => {
                 // Sub-triangle a = argmin α; coordinates on [p_b, p_c, centroid].
-                let a = (0..3).min_by(|&i, &j| alpha[i].total_cmp(&alpha[j])).expect("three");
+                let a = (0..3)
+                    .min_by(|&i, &j| alpha[i].total_cmp(&alpha[j]))
+                    .expect("three");
                 let (b, cc) = ((a + 1) % 3, (a + 2) % 3);
-                let tau = [alpha[b] - alpha[a], alpha[cc] - alpha[a], 3.0 * alpha[a], 0.0];
+                let tau = [
+                    alpha[b] - alpha[a],
+                    alpha[cc] - alpha[a],
+                    3.0 * alpha[a],
+                    0.0,
+                ];
                 // (4.6): towards u where F(q) ≤ 0, else towards v. The side is decided by the
                 // same b_0 = F(q) the ray uses, so rounding cannot send a ray the wrong way.
                 let ray = |s: usize| {
@@ -139,7 +167,11 @@ impl ApatchSurface {
                     [c.coeffs()[0], c.coeffs()[1], c.coeffs()[2], c.coeffs()[3]]
                 };
                 let c_up = ray(0);
-                let (s, sign, c) = if c_up[0] <= 0.0 { (0, 1.0, c_up) } else { (1, -1.0, ray(1)) };
+                let (s, sign, c) = if c_up[0] <= 0.0 {
+                    (0, 1.0, c_up)
+                } else {
+                    (1, -1.0, ray(1))
+                };
                 let poly = &split.sides[s].polys[a];
                 let tet = &split.sides[s].tets[a];
                 shoot(q, tet.vertex(3), c, sign, |x| poly.gradient_at(tet, x))
@@ -160,7 +192,11 @@ impl ApatchSurface {
         let (cubic, sign, c) = match (pos, neg) {
             (Some(p), Some(n)) => {
                 let cp = p.shooting_polynomial(x, y);
-                if cp[0] <= 0.0 { (p, 1.0, cp) } else { (n, -1.0, n.shooting_polynomial(x, y)) }
+                if cp[0] <= 0.0 {
+                    (p, 1.0, cp)
+                } else {
+                    (n, -1.0, n.shooting_polynomial(x, y))
+                }
             }
             (Some(p), None) => (p, 1.0, p.shooting_polynomial(x, y)),
             (None, Some(n)) => (n, -1.0, n.shooting_polynomial(x, y)),
@@ -175,16 +211,25 @@ impl ApatchSurface {
     /// patches with `n` steps along the edge and `m` across.
     pub fn tessellate(&self, n: usize, m: usize) -> Result<Tessellation, ApatchError> {
         if n == 0 || m == 0 {
-            return Err(ApatchError::Degenerate("the resolution must be at least 1".into()));
+            return Err(ApatchError::Degenerate(
+                "the resolution must be at least 1".into(),
+            ));
         }
         let mesh = self.hull().mesh();
         let nf = mesh.face_count();
         let topo = mesh.topology();
         // Face grids: all points (a, b, c), a + b + c = n, in a fixed order.
-        let grid: Vec<[usize; 3]> = (0..=n).rev().flat_map(|a| (0..=(n - a)).rev().map(move |b| [a, b, n - a - b])).collect();
+        let grid: Vec<[usize; 3]> = (0..=n)
+            .rev()
+            .flat_map(|a| (0..=(n - a)).rev().map(move |b| [a, b, n - a - b]))
+            .collect();
         let face_points: Vec<Vec<RayPoint>> = (0..nf)
             .into_par_iter()
-            .map(|f| grid.iter().map(|g| self.face_ray(f, g.map(|k| k as f64 / n as f64))).collect())
+            .map(|f| {
+                grid.iter()
+                    .map(|g| self.face_ray(f, g.map(|k| k as f64 / n as f64)))
+                    .collect()
+            })
             .collect();
         let edge_points: Vec<Vec<RayPoint>> = (0..self.edges().len())
             .into_par_iter()
@@ -205,7 +250,8 @@ impl ApatchSurface {
         let mut out = Tessellation::default();
         for (v, p) in mesh.positions().iter().enumerate() {
             out.positions.push(*p);
-            out.normals.push(self.hull().normals()[v].normalize_or_zero());
+            out.normals
+                .push(self.hull().normals()[v].normalize_or_zero());
         }
         let mut on_edge: HashMap<(u32, usize), u32> = HashMap::new();
         let push = |out: &mut Tessellation, r: &RayPoint, patch: u32| -> u32 {
@@ -240,7 +286,9 @@ impl ApatchSurface {
                     let wa = g[(z + 1) % 3];
                     let s = if va == e0 { n - wa } else { wa };
                     if r.at_start {
-                        *on_edge.entry((e, s)).or_insert_with(|| push(&mut out, r, f as u32))
+                        *on_edge
+                            .entry((e, s))
+                            .or_insert_with(|| push(&mut out, r, f as u32))
                     } else {
                         let id = push(&mut out, r, f as u32);
                         face_row.insert((f as u32, e, s), id);
@@ -261,7 +309,11 @@ impl ApatchSurface {
             before + (n - a - b)
         };
         for f in 0..nf {
-            let kind = if matches!(self.faces()[f], FaceFunction::Planar) { PatchKind::Planar } else { PatchKind::Face };
+            let kind = if matches!(self.faces()[f], FaceFunction::Planar) {
+                PatchKind::Planar
+            } else {
+                PatchKind::Face
+            };
             let ids = &face_ids[f];
             for a in 0..n {
                 for b in 0..(n - a) {
@@ -271,7 +323,11 @@ impl ApatchSurface {
                     out.triangle_patch.push(f as u32);
                     out.triangle_kind.push(kind);
                     if a + b + 2 <= n {
-                        let t2 = [ids[index(a + 1, b)], ids[index(a + 1, b + 1)], ids[index(a, b + 1)]];
+                        let t2 = [
+                            ids[index(a + 1, b)],
+                            ids[index(a + 1, b + 1)],
+                            ids[index(a, b + 1)],
+                        ];
                         out.triangles.push(t2);
                         out.triangle_patch.push(f as u32);
                         out.triangle_kind.push(kind);
@@ -289,7 +345,11 @@ impl ApatchSurface {
             let [vi, vj] = he.vertices;
             // Grid id at (i, j): i along the edge (x = i/n, x = 1 at p_i), j across (y = j/m,
             // y = 1 at the k side).
-            let id_at = |out: &mut Tessellation, on_edge: &mut HashMap<(u32, usize), u32>, i: usize, j: usize| -> u32 {
+            let id_at = |out: &mut Tessellation,
+                         on_edge: &mut HashMap<(u32, usize), u32>,
+                         i: usize,
+                         j: usize|
+             -> u32 {
                 if i == 0 {
                     return vj;
                 }
@@ -302,11 +362,15 @@ impl ApatchSurface {
                     if let Some(&id) = face_row.get(&(f, e as u32, s)) {
                         return id;
                     }
-                    return *on_edge.get(&(e as u32, s)).expect("boundary ray of a face patch");
+                    return *on_edge
+                        .get(&(e as u32, s))
+                        .expect("boundary ray of a face patch");
                 }
                 let r = &edge_points[e][(i - 1) * (m - 1) + (j - 1)];
                 if r.at_start {
-                    return *on_edge.entry((e as u32, s)).or_insert_with(|| push(out, r, patch));
+                    return *on_edge
+                        .entry((e as u32, s))
+                        .or_insert_with(|| push(out, r, patch));
                 }
                 push(out, r, patch)
             };

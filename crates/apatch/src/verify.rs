@@ -54,7 +54,10 @@ impl Piece<'_> {
     pub fn value_gradient(&self, x: DVec3) -> (f64, DVec3) {
         match self.function {
             PieceFunction::Face(c) => c.value_gradient(x),
-            PieceFunction::Split(s, a) => (s.polys[a].value_at(&s.tets[a], x), s.polys[a].gradient_at(&s.tets[a], x)),
+            PieceFunction::Split(s, a) => (
+                s.polys[a].value_at(&s.tets[a], x),
+                s.polys[a].gradient_at(&s.tets[a], x),
+            ),
             PieceFunction::Edge(c) => c.value_gradient(x),
         }
     }
@@ -71,7 +74,10 @@ pub struct Worst<T> {
 
 impl<T> Default for Worst<T> {
     fn default() -> Self {
-        Worst { value: 0.0, at: None }
+        Worst {
+            value: 0.0,
+            at: None,
+        }
     }
 }
 
@@ -131,7 +137,11 @@ impl ApatchSurface {
                 FaceFunction::Split(split) => {
                     for (s, side) in split.sides.iter().zip([Side::Positive, Side::Negative]) {
                         for a in 0..3 {
-                            out.push(Piece { owner: Owner::Face(f), side, function: PieceFunction::Split(s, a) });
+                            out.push(Piece {
+                                owner: Owner::Face(f),
+                                side,
+                                function: PieceFunction::Split(s, a),
+                            });
                         }
                     }
                 }
@@ -140,7 +150,11 @@ impl ApatchSurface {
         for (e, pair) in self.edges().iter().enumerate() {
             for (c, side) in pair.iter().zip([Side::Positive, Side::Negative]) {
                 if let Some(c) = c {
-                    out.push(Piece { owner: Owner::Edge(e), side, function: PieceFunction::Edge(c) });
+                    out.push(Piece {
+                        owner: Owner::Edge(e),
+                        side,
+                        function: PieceFunction::Edge(c),
+                    });
                 }
             }
         }
@@ -157,13 +171,17 @@ impl ApatchSurface {
         for (i, p) in pieces.iter().enumerate() {
             let t = p.tetrahedron();
             for skip in 0..4 {
-                let mut k: Vec<[u64; 3]> = (0..4).filter(|&v| v != skip).map(|v| key(t.vertex(v))).collect();
+                let mut k: Vec<[u64; 3]> = (0..4)
+                    .filter(|&v| v != skip)
+                    .map(|v| key(t.vertex(v)))
+                    .collect();
                 k.sort();
                 by_facet.entry([k[0], k[1], k[2]]).or_default().push(i);
             }
         }
         let mesh = self.hull().mesh();
-        let is_mesh_vertex: std::collections::HashSet<[u64; 3]> = mesh.positions().iter().map(|p| key(*p)).collect();
+        let is_mesh_vertex: std::collections::HashSet<[u64; 3]> =
+            mesh.positions().iter().map(|p| key(*p)).collect();
         let mut report = ContinuityReport::default();
         for (facet, users) in &by_facet {
             if users.len() != 2 {
@@ -171,14 +189,23 @@ impl ApatchSurface {
             }
             report.facets += 1;
             let (a, b) = (&pieces[users[0]], &pieces[users[1]]);
-            let verts: Vec<DVec3> = facet.iter().map(|k| DVec3::from_array(k.map(f64::from_bits))).collect();
-            let diam = (0..3).map(|i| verts[i].distance(verts[(i + 1) % 3])).fold(0.0, f64::max);
-            let on_mesh = facet.iter().map(|k| is_mesh_vertex.contains(k)).collect::<Vec<_>>();
+            let verts: Vec<DVec3> = facet
+                .iter()
+                .map(|k| DVec3::from_array(k.map(f64::from_bits)))
+                .collect();
+            let diam = (0..3)
+                .map(|i| verts[i].distance(verts[(i + 1) % 3]))
+                .fold(0.0, f64::max);
+            let on_mesh = facet
+                .iter()
+                .map(|k| is_mesh_vertex.contains(k))
+                .collect::<Vec<_>>();
             for i in 0..=level {
                 for j in 0..=(level - i) {
                     let w = [i, j, level - i - j].map(|x| x as f64 / level as f64);
                     // Skip points on the segment between two mesh vertices of the facet.
-                    let on_edge = (0..3).any(|z| w[z] == 0.0 && on_mesh[(z + 1) % 3] && on_mesh[(z + 2) % 3]);
+                    let on_edge =
+                        (0..3).any(|z| w[z] == 0.0 && on_mesh[(z + 1) % 3] && on_mesh[(z + 2) % 3]);
                     if on_edge {
                         continue;
                     }
@@ -203,7 +230,12 @@ impl ApatchSurface {
     pub fn interpolation_report(&self) -> InterpolationReport {
         let mesh = self.hull().mesh();
         let diag = mesh.bounding_box().diagonal().max(f64::MIN_POSITIVE);
-        let index: HashMap<[u64; 3], usize> = mesh.positions().iter().enumerate().map(|(i, p)| (key(*p), i)).collect();
+        let index: HashMap<[u64; 3], usize> = mesh
+            .positions()
+            .iter()
+            .enumerate()
+            .map(|(i, p)| (key(*p), i))
+            .collect();
         let mut r = InterpolationReport::default();
         for piece in self.pieces() {
             let t = piece.tetrahedron();
@@ -211,7 +243,8 @@ impl ApatchSurface {
                 let x = t.vertex(v);
                 if let Some(&i) = index.get(&key(x)) {
                     let (f, g) = piece.value_gradient(x);
-                    r.value.update(f.abs() / (g.length() * diag).max(f64::MIN_POSITIVE), i);
+                    r.value
+                        .update(f.abs() / (g.length() * diag).max(f64::MIN_POSITIVE), i);
                     r.normal_angle.update(angle(g, self.hull().normals()[i]), i);
                 }
             }
@@ -246,7 +279,11 @@ impl ApatchSurface {
             let x = t.positions[v as usize];
             let mut normals = Vec::new();
             for &patch in patches {
-                let owner = if (patch as usize) < nf { Owner::Face(patch as usize) } else { Owner::Edge(patch as usize - nf) };
+                let owner = if (patch as usize) < nf {
+                    Owner::Face(patch as usize)
+                } else {
+                    Owner::Edge(patch as usize - nf)
+                };
                 for &i in by_owner.get(&owner).map(Vec::as_slice).unwrap_or(&[]) {
                     let tau = pieces[i].tetrahedron().barycentric(x);
                     // Contained up to rounding (1e-9 of the barycentric scale).

@@ -14,7 +14,10 @@ fn face_normal(p: [DVec3; 3]) -> DVec3 {
 fn build(p: [DVec3; 3], grads: [DVec3; 3], q: &Quadric, h: f64, f: [f64; 2]) -> SplitFace {
     let c = (p[0] + p[1] + p[2]) / 3.0;
     let n = face_normal(p);
-    let v = [0, 1, 2].map(|a| VertexData { position: p[a], gradient: grads[a] });
+    let v = [0, 1, 2].map(|a| VertexData {
+        position: p[a],
+        gradient: grads[a],
+    });
     let mids = [0, 1, 2].map(|a| (grads[(a + 1) % 3] + grads[(a + 2) % 3]) * 0.5);
     SplitFace::new(v, &[c + n * h, c - n * h], mids, q, &f).unwrap()
 }
@@ -33,7 +36,10 @@ fn internal_c1_mismatch(s: &SplitFace) -> (f64, f64) {
         for j in i + 1..pieces.len() {
             let (ta, pa) = pieces[i];
             let (tb, pb) = pieces[j];
-            let shared: Vec<DVec3> = (0..4).map(|k| ta.vertex(k)).filter(|x| (0..4).any(|m| tb.vertex(m) == *x)).collect();
+            let shared: Vec<DVec3> = (0..4)
+                .map(|k| ta.vertex(k))
+                .filter(|x| (0..4).any(|m| tb.vertex(m) == *x))
+                .collect();
             if shared.len() != 3 {
                 continue;
             }
@@ -43,7 +49,9 @@ fn internal_c1_mismatch(s: &SplitFace) -> (f64, f64) {
                     let x = shared[0] * bary[0] + shared[1] * bary[1] + shared[2] * bary[2];
                     let (ga, gb) = (pa.gradient_at(ta, x), pb.gradient_at(tb, x));
                     let scale = ga.length().max(gb.length()).max(1e-300);
-                    worst.0 = worst.0.max((pa.value_at(ta, x) - pb.value_at(tb, x)).abs() / scale);
+                    worst.0 = worst
+                        .0
+                        .max((pa.value_at(ta, x) - pb.value_at(tb, x)).abs() / scale);
                     worst.1 = worst.1.max((ga - gb).length() / scale);
                 }
             }
@@ -54,8 +62,17 @@ fn internal_c1_mismatch(s: &SplitFace) -> (f64, f64) {
 
 #[test]
 fn split_face_reproduces_the_sphere_on_both_sides() {
-    let p = [DVec3::new(1.0, 0.1, 0.2), DVec3::new(0.2, 1.0, 0.1), DVec3::new(0.1, 0.2, 1.0)].map(|x| x.normalize());
-    let q = Quadric { a: glam::DMat3::IDENTITY * 0.5, b: DVec3::ZERO, c: -0.5 };
+    let p = [
+        DVec3::new(1.0, 0.1, 0.2),
+        DVec3::new(0.2, 1.0, 0.1),
+        DVec3::new(0.1, 0.2, 1.0),
+    ]
+    .map(|x| x.normalize());
+    let q = Quadric {
+        a: glam::DMat3::IDENTITY * 0.5,
+        b: DVec3::ZERO,
+        c: -0.5,
+    };
     let c = (p[0] + p[1] + p[2]) / 3.0;
     let n = face_normal(p);
     let (u, v) = (c + n * 0.3, c - n * 0.3);
@@ -63,7 +80,11 @@ fn split_face_reproduces_the_sphere_on_both_sides() {
     assert!(s.constraint_residual < 1e-12, "{}", s.constraint_residual);
     for side in &s.sides {
         for a in 0..3 {
-            for w in [[0.25, 0.25, 0.25, 0.25], [0.1, 0.5, 0.3, 0.1], [0.6, 0.1, 0.1, 0.2]] {
+            for w in [
+                [0.25, 0.25, 0.25, 0.25],
+                [0.1, 0.5, 0.3, 0.1],
+                [0.6, 0.1, 0.1, 0.2],
+            ] {
                 let x = side.tets[a].point(w);
                 assert!((side.polys[a].eval(w) - q.value(x)).abs() < 1e-12);
             }
@@ -74,8 +95,17 @@ fn split_face_reproduces_the_sphere_on_both_sides() {
 /// Fig. 9 of the paper: n1 = n2 = (1,0,1), n3 = (0,−1,1.5) — face [p1 p2 p3] is nonconvex.
 #[test]
 fn fig9_split_face_is_c1_across_every_internal_facet() {
-    let p = [DVec3::new(-2.0, 0.0, 0.0), DVec3::new(2.0, 0.0, 0.0), DVec3::new(0.0, 4.0, -1.0)];
-    let g = [DVec3::new(1.0, 0.0, 1.0), DVec3::new(1.0, 0.0, 1.0), DVec3::new(0.0, -1.0, 1.5)].map(|x| x.normalize());
+    let p = [
+        DVec3::new(-2.0, 0.0, 0.0),
+        DVec3::new(2.0, 0.0, 0.0),
+        DVec3::new(0.0, 4.0, -1.0),
+    ];
+    let g = [
+        DVec3::new(1.0, 0.0, 1.0),
+        DVec3::new(1.0, 0.0, 1.0),
+        DVec3::new(0.0, -1.0, 1.5),
+    ]
+    .map(|x| x.normalize());
     let samples: Vec<(DVec3, DVec3)> = (0..3).map(|i| (p[i], g[i])).collect();
     let q = Quadric::fit(&samples).unwrap();
     let s = build(p, g, &q, 1.0, [1.0, -1.0]);
@@ -86,8 +116,17 @@ fn fig9_split_face_is_c1_across_every_internal_facet() {
 
 #[test]
 fn a_perturbed_split_face_is_measurably_not_c1() {
-    let p = [DVec3::new(-2.0, 0.0, 0.0), DVec3::new(2.0, 0.0, 0.0), DVec3::new(0.0, 4.0, -1.0)];
-    let g = [DVec3::new(1.0, 0.0, 1.0), DVec3::new(1.0, 0.0, 1.0), DVec3::new(0.0, -1.0, 1.5)].map(|x| x.normalize());
+    let p = [
+        DVec3::new(-2.0, 0.0, 0.0),
+        DVec3::new(2.0, 0.0, 0.0),
+        DVec3::new(0.0, 4.0, -1.0),
+    ];
+    let g = [
+        DVec3::new(1.0, 0.0, 1.0),
+        DVec3::new(1.0, 0.0, 1.0),
+        DVec3::new(0.0, -1.0, 1.5),
+    ]
+    .map(|x| x.normalize());
     let q = Quadric::fit(&(0..3).map(|i| (p[i], g[i])).collect::<Vec<_>>()).unwrap();
     let mut s = build(p, g, &q, 1.0, [1.0, -1.0]);
     let c = s.sides[0].polys[0].coeff([1, 0, 1, 1]);

@@ -567,11 +567,20 @@ mod sheets {
 fn shooting_root_just_above_the_origin() {
     use algesurf_bb::roots::shooting_root;
     for d in [-2.527783052008247e-34, -1e-20, -1e-15, -1e-12] {
-        let c = [d, 0.0046949808268929305, 0.009404879277733747, 0.014130528525466701];
+        let c = [
+            d,
+            0.0046949808268929305,
+            0.009404879277733747,
+            0.014130528525466701,
+        ];
         let r = shooting_root(c).unwrap().expect("a root near 0");
         let expected = -d / (3.0 * c[1]);
         // Within rounding of the true root: below 8ε·scale, b₀ is noise and t = 0 (1e-14 in t
         // covers that); above it the root is resolved to 1e-6 relative.
-        assert!(r.t >= 0.0 && (r.t - expected).abs() <= 1e-6 * expected.abs() + 1e-14, "d = {d}: t = {}", r.t);
+        assert!(
+            r.t >= 0.0 && (r.t - expected).abs() <= 1e-6 * expected.abs() + 1e-14,
+            "d = {d}: t = {}",
+            r.t
+        );
     }
 }

@@ -25,6 +25,8 @@ pub(crate) struct RefineState {
     pub(crate) normals: Vec<DVec3>,
     pub(crate) face_map: Vec<u32>,
     pub(crate) refinements: Vec<Refinement>,
+    /// Vertices whose normals refinement had to change (see `split`), sorted, unique.
+    pub(crate) adjusted_normals: Vec<u32>,
     pub(crate) input_vertex_count: usize,
     /// For edges incident to an inserted vertex: the input edge whose refinement made them.
     ancestor: HashMap<[u32; 2], [u32; 2]>,
@@ -62,6 +64,7 @@ impl RefineState {
             mesh,
             normals,
             refinements: Vec::new(),
+            adjusted_normals: Vec::new(),
             ancestor: HashMap::new(),
         }
     }
@@ -88,12 +91,25 @@ impl RefineState {
         // strictly on their positive side (§3 needs n_fᵀn_l > 0), changing only what must.
         let around: Vec<u32> = {
             let t = self.mesh.topology();
-            let mut v: Vec<u32> = t.vertex_faces(m).flat_map(|f| self.mesh.triangles()[f as usize]).collect();
+            let mut v: Vec<u32> = t
+                .vertex_faces(m)
+                .flat_map(|f| self.mesh.triangles()[f as usize])
+                .collect();
             v.sort_unstable();
             v.dedup();
             v
         };
-        algesurf_mesh::condition_vertex_normals(&self.mesh, &mut self.normals, &around, algesurf_mesh::DEFAULT_MIN_NORMAL_COSINE);
+        let changed = algesurf_mesh::condition_vertex_normals(
+            &self.mesh,
+            &mut self.normals,
+            &around,
+            algesurf_mesh::DEFAULT_MIN_NORMAL_COSINE,
+        );
+        for v in changed {
+            if let Err(i) = self.adjusted_normals.binary_search(&v) {
+                self.adjusted_normals.insert(i, v);
+            }
+        }
         let t = self.mesh.topology();
         for &e in t.vertex_edges(m) {
             self.ancestor

@@ -65,6 +65,7 @@ pub struct SimplicialHull {
     face_map: Vec<u32>,
     input_vertex_count: usize,
     refinements: Vec<Refinement>,
+    adjusted_normals: Vec<u32>,
     options: HullOptions,
 }
 
@@ -156,20 +157,11 @@ impl SimplicialHull {
                 face_map: Vec::new(),
                 input_vertex_count: state.input_vertex_count,
                 refinements: Vec::new(),
+                adjusted_normals: Vec::new(),
                 options: options.clone(),
             };
-            // §3.1 resolves intersections of *adjacent* tetrahedra (elements sharing a mesh
-            // vertex) by refinement. Tetrahedra of elements far apart on the mesh overlap only
-            // where the input comes closer to itself than the hull is thick, or intersects
-            // itself (the Utah teapot's spout and handle pass through its body): refinement
-            // cannot undo that, so those overlaps are left in place and reported by
-            // `intersections()` / `distant_intersections()`; each patch is still evaluated in
-            // its own tetrahedra, so the surface follows the input there.
-            let hits: Vec<Intersection> = if options.check_intersections {
+            let hits = if options.check_intersections {
                 hull.intersections()
-                    .into_iter()
-                    .filter(|h| hull.elements_adjacent(h.first.element, h.second.element))
-                    .collect()
             } else {
                 Vec::new()
             };
@@ -178,6 +170,7 @@ impl SimplicialHull {
                     normals: state.normals,
                     face_map: state.face_map,
                     refinements: state.refinements,
+                    adjusted_normals: state.adjusted_normals,
                     ..hull
                 });
             }
@@ -193,9 +186,36 @@ impl SimplicialHull {
                 reason,
             };
             if round == options.max_refinement_rounds {
-                return Err(unresolved(format!(
-                    "the limit of {round} rounds is reached"
-                )));
+                // §3.1 resolves intersecting tetrahedra by refinement. Overlaps that survive every
+                // round between elements far apart on the mesh whose own triangles intersect
+                // come from an input that intersects itself (the Utah teapot's spout and handle
+                // pass through its body): no refinement undoes that, so they are left in place
+                // and reported by `distant_intersections()`; each patch is evaluated in its own
+                // tetrahedra, so the surface follows the input there.
+                // Accepted only where the mesh triangles of the two elements themselves intersect
+                // (input self-intersection); any other remaining overlap is an error.
+                if let Some(adjacent) = hits.iter().find(|h| {
+                    hull.elements_adjacent(h.first.element, h.second.element)
+                        || !hull.elements_triangles_intersect(h.first.element, h.second.element)
+                }) {
+                    let [a, b] = hull.edges[hull.conflict_edge(adjacent) as usize].vertices;
+                    return Err(HullError::UnresolvedIntersection {
+                        edge: state.input_edge(a, b),
+                        faces: [
+                            state.face_map[hull.element_faces(adjacent.first.element)[0] as usize],
+                            state.face_map[hull.element_faces(adjacent.second.element)[0] as usize],
+                        ],
+                        rounds: round,
+                        reason: format!("the limit of {round} rounds is reached"),
+                    });
+                }
+                return Ok(SimplicialHull {
+                    normals: state.normals,
+                    face_map: state.face_map,
+                    refinements: state.refinements,
+                    adjusted_normals: state.adjusted_normals,
+                    ..hull
+                });
             }
             pending = Some(unresolved(String::new()));
             // Faces to bisect, with their corners now (ids of split faces get reused).
@@ -235,13 +255,37 @@ impl SimplicialHull {
         self.element_vertices(b).iter().any(|v| va.contains(v))
     }
 
-    /// Overlapping tetrahedra of elements that share no mesh vertex: places where the input
-    /// comes within the hull's thickness of itself or intersects itself. They are reported,
-    /// not refined (see [`SimplicialHull::new`]).
+    /// Whether a mesh triangle of element `a` intersects one of element `b` (each edge of one
+    /// triangle tested as a segment against the other, Möller–Trumbore in f64; touching
+    /// coplanar triangles are not counted).
+    pub fn elements_triangles_intersect(&self, a: Element, b: Element) -> bool {
+        let tri =
+            |f: u32| self.mesh.triangles()[f as usize].map(|v| self.mesh.positions()[v as usize]);
+        let crosses = |t: [DVec3; 3], u: [DVec3; 3]| {
+            (0..3).any(|k| {
+                let (p, q) = (t[k], t[(k + 1) % 3]);
+                algesurf_mesh::primitives::ray_triangle(p, q - p, u, 0.0, 1.0).is_some()
+            })
+        };
+        self.element_faces(a).iter().any(|&fa| {
+            self.element_faces(b)
+                .iter()
+                .any(|&fb| crosses(tri(fa), tri(fb)) || crosses(tri(fb), tri(fa)))
+        })
+    }
+
+    /// Overlapping tetrahedra of elements that share no mesh vertex and whose mesh triangles
+    /// intersect: places where the input intersects itself (the Utah teapot's spout and handle
+    /// pass through its body). Refinement cannot undo them; they are reported, and each patch
+    /// is still evaluated in its own tetrahedra, so the surface follows the input there (see
+    /// [`SimplicialHull::new`]).
     pub fn distant_intersections(&self) -> Vec<Intersection> {
         self.intersections()
             .into_iter()
-            .filter(|h| !self.elements_adjacent(h.first.element, h.second.element))
+            .filter(|h| {
+                !self.elements_adjacent(h.first.element, h.second.element)
+                    && self.elements_triangles_intersect(h.first.element, h.second.element)
+            })
             .collect()
     }
 
@@ -374,6 +418,13 @@ impl SimplicialHull {
     pub fn input_vertex_count(&self) -> usize {
         self.input_vertex_count
     }
+    /// Vertices (of [`SimplicialHull::mesh`]) whose normals refinement changed so that each
+    /// stays on the positive side of the tilted faces around a new vertex (input vertices among
+    /// them no longer have the normal they were given). Sorted.
+    pub fn adjusted_normals(&self) -> &[u32] {
+        &self.adjusted_normals
+    }
+
     /// The local refinement steps done, in order (empty when the input needed none).
     pub fn refinements(&self) -> &[Refinement] {
         &self.refinements

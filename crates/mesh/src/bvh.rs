@@ -38,8 +38,16 @@ fn widen(x: f32, lower: bool) -> f64 {
 pub struct BoxBvh {
     tree: Option<Bvh2>,
     boxes: Vec<Aabb>,
-    /// Tree primitive index -> box id (non-finite boxes are not in the tree).
-    ids: Vec<u32>,
+    /// The f64 widening of every tree node's f32 box, by node index. Converting once at build
+    /// time instead of at every visit keeps the traversal's inner loop to one f64 box test.
+    node_boxes: Vec<Aabb>,
+    /// Box id of each tree primitive slot, in the tree's leaf order (`primitive_indices`
+    /// already resolved), so a leaf reads its ids contiguously.
+    leaf_ids: Vec<u32>,
+    /// The f64 widening of each primitive's padded f32 box, in the same leaf order. It
+    /// contains the exact f64 box (see the module comment), so it is as conservative a
+    /// prefilter for a single primitive as the node boxes are for subtrees.
+    leaf_boxes: Vec<Aabb>,
 }
 
 impl std::fmt::Debug for BoxBvh {
@@ -48,6 +56,59 @@ impl std::fmt::Debug for BoxBvh {
             .field("boxes", &self.boxes.len())
             .field("nodes", &self.tree.as_ref().map_or(0, |t| t.nodes.len()))
             .finish()
+    }
+}
+
+/// The conservative f64 box of an f32 box (infinite where the f32 bound is at the f32 range).
+fn widen_box(a: &obvhs::aabb::Aabb) -> Aabb {
+    let (mn, mx) = (a.min.to_array(), a.max.to_array());
+    Aabb {
+        min: DVec3::new(widen(mn[0], true), widen(mn[1], true), widen(mn[2], true)),
+        max: DVec3::new(
+            widen(mx[0], false),
+            widen(mx[1], false),
+            widen(mx[2], false),
+        ),
+    }
+}
+
+/// Depth-first traversal stack: 64 entries inline, spilling to the heap only for deeper
+/// trees, so a query allocates nothing in the common case (a balanced tree over 2^64
+/// primitives would not need more; degenerate trees still work through the spill).
+struct Stack<T: Copy> {
+    inline: [T; 64],
+    len: usize,
+    spill: Vec<T>,
+}
+
+impl<T: Copy> Stack<T> {
+    fn new(fill: T) -> Self {
+        Stack {
+            inline: [fill; 64],
+            len: 0,
+            spill: Vec::new(),
+        }
+    }
+    #[inline]
+    fn push(&mut self, x: T) {
+        if self.len < 64 {
+            self.inline[self.len] = x;
+            self.len += 1;
+        } else {
+            self.spill.push(x);
+        }
+    }
+    #[inline]
+    fn pop(&mut self) -> Option<T> {
+        // The spill holds the entries pushed after the inline part filled up: pop those first.
+        if let Some(x) = self.spill.pop() {
+            return Some(x);
+        }
+        if self.len == 0 {
+            return None;
+        }
+        self.len -= 1;
+        Some(self.inline[self.len])
     }
 }
 
@@ -73,7 +134,27 @@ impl BoxBvh {
                 &mut Duration::default(),
             )
         });
-        BoxBvh { tree, boxes, ids }
+        let (mut node_boxes, mut leaf_ids, mut leaf_boxes) = (Vec::new(), Vec::new(), Vec::new());
+        if let Some(t) = &tree {
+            node_boxes = t.nodes.iter().map(|n| widen_box(n.aabb())).collect();
+            leaf_ids = t
+                .primitive_indices
+                .iter()
+                .map(|&pi| ids[pi as usize])
+                .collect();
+            leaf_boxes = t
+                .primitive_indices
+                .iter()
+                .map(|&pi| widen_box(&fboxes[pi as usize]))
+                .collect();
+        }
+        BoxBvh {
+            tree,
+            boxes,
+            node_boxes,
+            leaf_ids,
+            leaf_boxes,
+        }
     }
 
     /// The boxes the tree was built over.
@@ -82,45 +163,40 @@ impl BoxBvh {
     }
 
     /// Visits the leaves whose node box passes `node`, calling `leaf` with box ids; `node`
-    /// receives the conservative f64 node box and may use state updated by `leaf`.
+    /// receives the conservative f64 node box and returns a key (or `None` to prune), and
+    /// `live` is asked again when a deferred node is popped, with that key, so that state
+    /// updated by `leaf` since the node was pushed (a shrinking search radius) prunes it then.
+    /// Children are visited nearer (smaller key) first, the left one on ties.
     pub(crate) fn traverse(
         &self,
         mut node: impl FnMut(&Aabb) -> Option<f64>,
+        mut live: impl FnMut(f64) -> bool,
         mut leaf: impl FnMut(u32),
     ) {
         let Some(tree) = &self.tree else { return };
         if tree.nodes.is_empty() {
             return;
         }
-        let nb = |i: u32| -> Aabb {
-            let a = tree.nodes[i as usize].aabb();
-            let (mn, mx) = (a.min.to_array(), a.max.to_array());
-            Aabb {
-                min: DVec3::new(widen(mn[0], true), widen(mn[1], true), widen(mn[2], true)),
-                max: DVec3::new(
-                    widen(mx[0], false),
-                    widen(mx[1], false),
-                    widen(mx[2], false),
-                ),
-            }
-        };
-        // Stack of (node, key); children are pushed far-first so the nearer one pops first.
-        let mut stack: Vec<(u32, f64)> = Vec::with_capacity(64);
-        if let Some(k) = node(&nb(0)) {
+        let mut stack: Stack<(u32, f64)> = Stack::new((0, 0.0));
+        if let Some(k) = node(&self.node_boxes[0]) {
             stack.push((0, k));
         }
-        while let Some((i, _)) = stack.pop() {
+        while let Some((i, k)) = stack.pop() {
+            if !live(k) {
+                continue;
+            }
             let n = &tree.nodes[i as usize];
             if n.is_leaf() {
                 let s = n.first_index as usize;
-                for &pi in &tree.primitive_indices[s..s + n.prim_count as usize] {
-                    leaf(self.ids[pi as usize]);
+                for &id in &self.leaf_ids[s..s + n.prim_count as usize] {
+                    leaf(id);
                 }
                 continue;
             }
             let (l, r) = (n.first_index, n.first_index + 1);
-            let kl = node(&nb(l));
-            let kr = node(&nb(r));
+            let kl = node(&self.node_boxes[l as usize]);
+            let kr = node(&self.node_boxes[r as usize]);
+            // Pushed far-first so that the nearer one pops first.
             match (kl, kr) {
                 (Some(a), Some(b)) if a <= b => {
                     stack.push((r, b));
@@ -137,11 +213,65 @@ impl BoxBvh {
         }
     }
 
+    /// Branch-and-bound nearest search: calls `leaf(id, bound)` for every primitive whose
+    /// conservative box is within squared distance `bound` of `p`, where `bound` is the
+    /// squared distance `leaf` returned last (initially infinite). Subtrees and primitives
+    /// farther than the current bound are skipped, the nearer child is descended first
+    /// without touching the stack, and deferred siblings are re-checked against the bound
+    /// when popped. The comparisons are `<=`, so every primitive at exactly the final best
+    /// distance is still visited (ties are then decided by the caller independently of the
+    /// visiting order).
+    fn nearest(&self, p: DVec3, mut leaf: impl FnMut(u32, f64) -> f64) {
+        let Some(tree) = &self.tree else { return };
+        if tree.nodes.is_empty() {
+            return;
+        }
+        let mut bound = f64::INFINITY;
+        let mut stack: Stack<(u32, f64)> = Stack::new((0, 0.0));
+        let mut i = 0u32;
+        'walk: loop {
+            let n = &tree.nodes[i as usize];
+            if n.is_leaf() {
+                let s = n.first_index as usize;
+                let e = s + n.prim_count as usize;
+                for (b, &id) in self.leaf_boxes[s..e].iter().zip(&self.leaf_ids[s..e]) {
+                    if b.distance_squared(p) <= bound {
+                        bound = leaf(id, bound);
+                    }
+                }
+            } else {
+                let (l, r) = (n.first_index, n.first_index + 1);
+                let dl = self.node_boxes[l as usize].distance_squared(p);
+                let dr = self.node_boxes[r as usize].distance_squared(p);
+                let ((near, dn), (far, df)) = if dl <= dr {
+                    ((l, dl), (r, dr))
+                } else {
+                    ((r, dr), (l, dl))
+                };
+                if dn <= bound {
+                    if df <= bound {
+                        stack.push((far, df));
+                    }
+                    i = near;
+                    continue 'walk;
+                }
+            }
+            while let Some((j, d)) = stack.pop() {
+                if d <= bound {
+                    i = j;
+                    continue 'walk;
+                }
+            }
+            return;
+        }
+    }
+
     /// Ids of the boxes that overlap `query` (closed boxes; touching counts), ascending.
     pub fn overlapping(&self, query: &Aabb) -> Vec<u32> {
         let mut out = Vec::new();
         self.traverse(
             |b| b.overlaps(query).then_some(0.0),
+            |_| true,
             |i| {
                 if self.boxes[i as usize].overlaps(query) {
                     out.push(i);
@@ -220,29 +350,21 @@ impl TriangleBvh {
             return None;
         }
         let mut best: Option<ClosestPoint> = None;
-        let mut best_d2 = f64::INFINITY;
-        let cell = std::cell::Cell::new(f64::INFINITY);
-        self.boxes.traverse(
-            |b| {
-                let d2 = b.distance_squared(p);
-                (d2 <= cell.get()).then_some(d2)
-            },
-            |f| {
-                let [a, b, c] = self.triangles[f as usize];
-                let (q, bary) = closest_point_on_triangle(p, a, b, c);
-                let d2 = q.distance_squared(p);
-                if d2 < best_d2 || (d2 == best_d2 && best.is_some_and(|x| f < x.face)) {
-                    best_d2 = d2;
-                    cell.set(d2);
-                    best = Some(ClosestPoint {
-                        face: f,
-                        point: q,
-                        barycentric: bary,
-                        distance: d2.sqrt(),
-                    });
-                }
-            },
-        );
+        self.boxes.nearest(p, |f, bound| {
+            let [a, b, c] = self.triangles[f as usize];
+            let (q, bary) = closest_point_on_triangle(p, a, b, c);
+            let d2 = q.distance_squared(p);
+            if d2 < bound || (d2 == bound && best.is_some_and(|x| f < x.face)) {
+                best = Some(ClosestPoint {
+                    face: f,
+                    point: q,
+                    barycentric: bary,
+                    distance: d2.sqrt(),
+                });
+                return d2;
+            }
+            bound
+        });
         best
     }
 
@@ -251,6 +373,7 @@ impl TriangleBvh {
         let mut out = Vec::new();
         self.boxes.traverse(
             |b| ray_box(origin, dir, b, t_min, t_max).map(|(t, _)| t),
+            |_| true,
             |f| {
                 if let Some((t, u, v)) =
                     ray_triangle(origin, dir, self.triangles[f as usize], t_min, t_max)
@@ -273,6 +396,10 @@ impl TriangleBvh {
         let limit = std::cell::Cell::new(t_max);
         self.boxes.traverse(
             |b| ray_box(origin, dir, b, t_min, limit.get()).map(|(t, _)| t),
+            // The key is the entry parameter of the node box: a node entered beyond the best
+            // hit so far cannot hold a better one (ties stay, for the lower face id; written
+            // so that a NaN key, which the push-time test let through, is kept too).
+            |t| t.partial_cmp(&limit.get()) != Some(std::cmp::Ordering::Greater),
             |f| {
                 if let Some((t, u, v)) =
                     ray_triangle(origin, dir, self.triangles[f as usize], t_min, t_max)

@@ -38,6 +38,7 @@
 #![warn(missing_docs)]
 
 mod error;
+mod fasthash;
 pub mod geometry;
 pub mod polygon;
 pub mod topology;
@@ -56,8 +57,8 @@ pub use repair::{RepairOptions, RepairReport, Repaired, repair};
 pub use validate::{Finding, ValidationOptions, ValidationReport, validate, validate_with};
 pub mod normals;
 pub use normals::{
-    DEFAULT_MIN_NORMAL_COSINE, NormalMethod, condition_normals, condition_vertex_normals, loop_limit_normal,
-    vertex_normals,
+    DEFAULT_MIN_NORMAL_COSINE, NormalMethod, condition_normals, condition_vertex_normals,
+    loop_limit_normal, vertex_normals,
 };
 pub mod shapes;
 pub mod subdivision;

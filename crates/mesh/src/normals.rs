@@ -174,7 +174,11 @@ pub const DEFAULT_MIN_NORMAL_COSINE: f64 = 0.1;
 /// meshes; elsewhere nothing changes. Returns the new normals (with their original lengths) and
 /// the ids of the vertices changed. A vertex whose faces' normals fit in no cone of half-angle
 /// `acos(min_cos)` gets `m`, the best possible direction, and is still reported.
-pub fn condition_normals(mesh: &TriMesh, normals: &[DVec3], min_cos: f64) -> (Vec<DVec3>, Vec<u32>) {
+pub fn condition_normals(
+    mesh: &TriMesh,
+    normals: &[DVec3],
+    min_cos: f64,
+) -> (Vec<DVec3>, Vec<u32>) {
     let face_normals = unit_face_normals(mesh);
     let mut out = normals.to_vec();
     let mut changed = Vec::new();
@@ -189,7 +193,12 @@ pub fn condition_normals(mesh: &TriMesh, normals: &[DVec3], min_cos: f64) -> (Ve
 
 /// [`condition_normals`] for the vertices `vertices` only (e.g. those whose faces a local
 /// refinement changed); returns the ids changed.
-pub fn condition_vertex_normals(mesh: &TriMesh, normals: &mut [DVec3], vertices: &[u32], min_cos: f64) -> Vec<u32> {
+pub fn condition_vertex_normals(
+    mesh: &TriMesh,
+    normals: &mut [DVec3],
+    vertices: &[u32],
+    min_cos: f64,
+) -> Vec<u32> {
     let face_normals = unit_face_normals(mesh);
     let mut changed = Vec::new();
     for &v in vertices {
@@ -203,10 +212,18 @@ pub fn condition_vertex_normals(mesh: &TriMesh, normals: &mut [DVec3], vertices:
 
 fn unit_face_normals(mesh: &TriMesh) -> Vec<DVec3> {
     // `face_normal` is area-weighted; the cone test needs unit normals.
-    (0..mesh.face_count()).map(|f| mesh.face_normal(f).normalize_or_zero()).collect()
+    (0..mesh.face_count())
+        .map(|f| mesh.face_normal(f).normalize_or_zero())
+        .collect()
 }
 
-fn conditioned(mesh: &TriMesh, face_normals: &[DVec3], v: u32, normal: DVec3, min_cos: f64) -> Option<DVec3> {
+fn conditioned(
+    mesh: &TriMesh,
+    face_normals: &[DVec3],
+    v: u32,
+    normal: DVec3,
+    min_cos: f64,
+) -> Option<DVec3> {
     let fn_: Vec<DVec3> = mesh
         .topology()
         .vertex_faces(v)

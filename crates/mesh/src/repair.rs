@@ -2,13 +2,13 @@
 //! and [`repair`] reports what every step changed, with ids in the input order and maps from
 //! the output back to the input.
 
+use crate::fasthash::{FaceKey, FastMap, FastSet};
 use crate::geometry::{Aabb, newell_normal, signed_volume};
 use crate::topology::Topology;
 use crate::triangulate::triangulate_polygon;
 use crate::validate::DEFAULT_DEGENERATE_AREA;
 use crate::{MeshError, PolygonMesh, Property, PropertyValues};
 use glam::DVec3;
-use std::collections::HashMap;
 use std::fmt;
 
 /// Default weld tolerance relative to the bounding-box diagonal.
@@ -235,7 +235,13 @@ pub fn weld_map(positions: &[DVec3], tolerance: f64) -> Vec<u32> {
                 (p.z * inv).floor() as i64,
             ]
         };
-        let mut grid: HashMap<[i64; 3], Vec<u32>> = HashMap::new();
+        // Each occupied cell holds a linked list of its representatives: `grid` maps the cell
+        // to the last one added, `next_in_cell` links to the one added before (the scan
+        // takes the lowest id within reach, so the order within a cell does not matter).
+        // This avoids one heap vector per cell; the fast hasher is exact (see `fasthash`).
+        let mut grid: FastMap<[i64; 3], u32> = FastMap::default();
+        grid.reserve(positions.len());
+        let mut next_in_cell: Vec<u32> = vec![u32::MAX; positions.len()];
         let t2 = tolerance * tolerance;
         for (v, &p) in positions.iter().enumerate() {
             if !p.is_finite() {
@@ -251,25 +257,29 @@ pub fn weld_map(positions: &[DVec3], tolerance: f64) -> Vec<u32> {
                             c[1].saturating_add(dy),
                             c[2].saturating_add(dz),
                         ];
-                        if let Some(list) = grid.get(&k) {
-                            for &r in list {
-                                if positions[r as usize].distance_squared(p) <= t2
-                                    && best.is_none_or(|b| r < b)
-                                {
-                                    best = Some(r);
-                                }
+                        let mut r = grid.get(&k).copied().unwrap_or(u32::MAX);
+                        while r != u32::MAX {
+                            if positions[r as usize].distance_squared(p) <= t2
+                                && best.is_none_or(|b| r < b)
+                            {
+                                best = Some(r);
                             }
+                            r = next_in_cell[r as usize];
                         }
                     }
                 }
             }
             match best {
                 Some(r) => rep[v] = r,
-                None => grid.entry(c).or_default().push(v as u32),
+                None => {
+                    if let Some(prev) = grid.insert(c, v as u32) {
+                        next_in_cell[v] = prev;
+                    }
+                }
             }
         }
     } else if tolerance == 0.0 {
-        let mut seen: HashMap<[u64; 3], u32> = HashMap::new();
+        let mut seen: FastMap<[u64; 3], u32> = FastMap::default();
         for (v, &p) in positions.iter().enumerate() {
             if !p.is_finite() {
                 continue;
@@ -372,9 +382,16 @@ pub fn repair(mesh: &PolygonMesh, options: &RepairOptions) -> Result<Repaired, M
         while face.len() > 1 && face.first() == face.last() {
             face.pop();
         }
-        let mut s = face.clone();
-        s.sort_unstable();
-        let simple = face.len() >= 3 && s.windows(2).all(|w| w[0] != w[1]);
+        // No vertex twice: quadratic scan for the usual small faces (no allocation), sort a
+        // copy for large ones; both answer "all ids distinct".
+        let simple = face.len() >= 3
+            && if face.len() <= 8 {
+                (1..face.len()).all(|i| !face[..i].contains(&face[i]))
+            } else {
+                let mut s = face.clone();
+                s.sort_unstable();
+                s.windows(2).all(|w| w[0] != w[1])
+            };
         if !simple {
             report.collapsed_faces.push(*f);
         }
@@ -416,12 +433,11 @@ pub fn repair(mesh: &PolygonMesh, options: &RepairOptions) -> Result<Repaired, M
     }
     // 6. Duplicate faces.
     if options.drop_duplicate_faces {
-        let mut seen: HashMap<Vec<u32>, ()> = HashMap::with_capacity(faces.len());
+        let mut seen: FastSet<FaceKey> = FastSet::default();
+        seen.reserve(faces.len());
         let mut dropped = Vec::new();
         faces.retain(|(f, face)| {
-            let mut key = face.clone();
-            key.sort_unstable();
-            let fresh = seen.insert(key, ()).is_none();
+            let fresh = seen.insert(FaceKey::new(face));
             if !fresh {
                 dropped.push(*f);
             }
@@ -432,6 +448,9 @@ pub fn repair(mesh: &PolygonMesh, options: &RepairOptions) -> Result<Repaired, M
     // 7. Non-manifold vertices and edges: one vertex copy per extra fan. `src[v]` is the
     // input vertex that (possibly new) vertex `v` stands for.
     let mut src: Vec<u32> = (0..nv as u32).collect();
+    // The adjacency built here is reused by the orientation step when nothing was split
+    // (then the faces and the vertex count are unchanged, so it would be built identically).
+    let mut split_topo: Option<Topology> = None;
     if options.split_non_manifold_vertices && !faces.is_empty() {
         let (offsets, corners) = flatten(&faces);
         let topo = Topology::new(nv, &offsets, &corners)?;
@@ -444,10 +463,11 @@ pub fn repair(mesh: &PolygonMesh, options: &RepairOptions) -> Result<Repaired, M
             if topo.vertex_corners(v).len() < 2 {
                 continue;
             }
-            let fans = topo.fans(v);
-            if fans.len() < 2 {
+            // Counting is cheaper than building the fans, which only split vertices need.
+            if topo.fan_count(v) < 2 {
                 continue;
             }
+            let fans = topo.fans(v);
             report.split_vertices.push((v, fans.len() as u32));
             for fan in &fans[1..] {
                 let copy = src.len() as u32;
@@ -459,13 +479,21 @@ pub fn repair(mesh: &PolygonMesh, options: &RepairOptions) -> Result<Repaired, M
                 }
             }
         }
+        if report.split_vertices.is_empty() {
+            split_topo = Some(topo);
+        }
     }
     let nv_split = src.len();
     let pos = |v: u32| mesh.positions[src[v as usize] as usize];
     // 8. Orientation.
     if options.orient && !faces.is_empty() {
-        let (offsets, corners) = flatten(&faces);
-        let topo = Topology::new(nv_split, &offsets, &corners)?;
+        let topo = match split_topo {
+            Some(t) => t,
+            None => {
+                let (offsets, corners) = flatten(&faces);
+                Topology::new(nv_split, &offsets, &corners)?
+            }
+        };
         let (mut flips, comp, orientable) = topo.orientation_flips();
         report.non_orientable_components = orientable.iter().filter(|o| !**o).count();
         let ncomp = orientable.len();

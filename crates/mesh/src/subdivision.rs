@@ -81,7 +81,7 @@ pub(crate) fn require_manifold(t: &Topology) -> Result<(), MeshError> {
         }
     }
     for v in 0..t.vertex_count() as u32 {
-        if t.vertex_corners(v).len() > 1 && t.fans(v).len() > 1 {
+        if t.vertex_corners(v).len() > 1 && t.fan_count(v) > 1 {
             return Err(MeshError::NonManifoldVertex(v));
         }
     }
@@ -412,7 +412,7 @@ fn require_local_manifold(mesh: &TriMesh, e: u32) -> Result<(), MeshError> {
         return Err(MeshError::NonManifoldEdge(a, b));
     }
     for v in [a, b] {
-        if t.fans(v).len() > 1 {
+        if t.fan_count(v) > 1 {
             return Err(MeshError::NonManifoldVertex(v));
         }
     }

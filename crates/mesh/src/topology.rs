@@ -382,8 +382,14 @@ impl Topology {
         )
     }
 
-    /// Walks from corner `c` leaving through edge `exit`; returns (faces, neighbours) visited
-    /// after `c` and whether the walk came back to `stop`.
+    /// Walks from corner `c0` leaving through edge `exit0`; appends the faces and neighbours
+    /// visited after `c0` to `out` (when given) and returns whether the walk came back to
+    /// `stop`. Corners visited are appended to `seen` (whose last entry, or `c0`, is the
+    /// corner being left).
+    ///
+    /// Writing into caller-owned vectors instead of returning fresh ones: `fans` runs once
+    /// per vertex in validation, repair and normals, and the per-walk allocations were a
+    /// large part of its cost.
     fn walk(
         &self,
         v: u32,
@@ -391,19 +397,18 @@ impl Topology {
         exit0: u32,
         stop: u32,
         seen: &mut Vec<u32>,
-    ) -> (Vec<u32>, Vec<u32>, bool) {
-        let (mut faces, mut nbrs) = (Vec::new(), Vec::new());
+        mut out: Option<(&mut Vec<u32>, &mut Vec<u32>)>,
+    ) -> bool {
         let (mut exit, mut guard) = (exit0, 0usize);
-        let _ = c0;
         let limit = self.vertex_corners(v).len() + 1;
         loop {
             guard += 1;
             if guard > limit {
-                return (faces, nbrs, false);
+                return false;
             }
             let hs = self.edge_half_edges(exit);
             if hs.len() != 2 {
-                return (faces, nbrs, false);
+                return false;
             }
             // The half-edge on `exit` that does not belong to the corner we leave.
             let from = *seen.last().unwrap_or(&c0);
@@ -414,17 +419,80 @@ impl Topology {
             };
             let c = self.corner_at(h, v);
             if c == stop {
-                return (faces, nbrs, true);
+                return true;
             }
             if seen.contains(&c) {
-                return (faces, nbrs, false);
+                return false;
             }
             seen.push(c);
             let (ein, eout) = self.corner_edges(c);
             exit = if ein == exit { eout } else { ein };
-            faces.push(self.corner_face[c as usize]);
-            nbrs.push(self.opposite_vertex(exit, v));
+            if let Some((faces, nbrs)) = out.as_mut() {
+                faces.push(self.corner_face[c as usize]);
+                nbrs.push(self.opposite_vertex(exit, v));
+            }
         }
+    }
+
+    /// The corners of the fan that contains corner `c0` of vertex `v`, appended to `done`
+    /// (`c0` first), and, when `out` is given, the fan itself. `fwd` and `bwd` are scratch
+    /// vectors for the two walks' visited corners (each walk sees only its own, starting at
+    /// `c0`); passing them in lets [`Topology::fan_count`] reuse them across fans.
+    fn fan_from(
+        &self,
+        v: u32,
+        c0: u32,
+        done: &mut Vec<u32>,
+        fwd: &mut Vec<u32>,
+        bwd: &mut Vec<u32>,
+        out: Option<&mut Vec<Fan>>,
+    ) {
+        let (ein, eout) = self.corner_edges(c0);
+        fwd.clear();
+        fwd.push(c0);
+        let Some(out) = out else {
+            // The same walks as below, collecting only the corners visited.
+            if !self.walk(v, c0, ein, c0, fwd, None) {
+                bwd.clear();
+                bwd.push(c0);
+                self.walk(v, c0, eout, c0, bwd, None);
+                fwd.extend_from_slice(&bwd[1..]);
+            }
+            done.extend_from_slice(fwd);
+            return;
+        };
+        let first = self.opposite_vertex(eout, v);
+        let second = self.opposite_vertex(ein, v);
+        // Forward walk appends after `first, second` and the first face: the layout the
+        // closed case needs, and the tail of the open case's.
+        let mut neighbors = vec![first, second];
+        let mut faces = vec![self.corner_face[c0 as usize]];
+        let closed = self.walk(v, c0, ein, c0, fwd, Some((&mut faces, &mut neighbors)));
+        let fan = if closed {
+            neighbors.pop();
+            Fan {
+                neighbors,
+                faces,
+                closed: true,
+            }
+        } else {
+            bwd.clear();
+            bwd.push(c0);
+            let (mut bf, mut bn) = (Vec::new(), Vec::new());
+            self.walk(v, c0, eout, c0, bwd, Some((&mut bf, &mut bn)));
+            fwd.extend_from_slice(&bwd[1..]);
+            bn.reverse();
+            bn.extend_from_slice(&neighbors);
+            bf.reverse();
+            bf.extend_from_slice(&faces);
+            Fan {
+                neighbors: bn,
+                faces: bf,
+                closed: false,
+            }
+        };
+        done.extend_from_slice(fwd);
+        out.push(fan);
     }
 
     /// The fans of faces around vertex `v`: usually one; none for an unused vertex, several
@@ -432,49 +500,34 @@ impl Topology {
     /// two faces, so a vertex on a non-manifold edge has more than one fan.
     pub fn fans(&self, v: u32) -> Vec<Fan> {
         let corners = self.vertex_corners(v);
-        let mut done: Vec<u32> = Vec::new();
+        let mut done: Vec<u32> = Vec::with_capacity(corners.len());
+        let (mut fwd, mut bwd) = (Vec::with_capacity(corners.len()), Vec::new());
         let mut out = Vec::new();
         for &c0 in corners {
             if done.contains(&c0) {
                 continue;
             }
-            let (ein, eout) = self.corner_edges(c0);
-            let first = self.opposite_vertex(eout, v);
-            let second = self.opposite_vertex(ein, v);
-            let mut seen = vec![c0];
-            let (ff, fn_, closed) = self.walk(v, c0, ein, c0, &mut seen);
-            let fan = if closed {
-                let mut neighbors = vec![first, second];
-                neighbors.extend_from_slice(&fn_);
-                neighbors.pop();
-                let mut faces = vec![self.corner_face[c0 as usize]];
-                faces.extend(ff);
-                Fan {
-                    neighbors,
-                    faces,
-                    closed: true,
-                }
-            } else {
-                let mut seen_b = vec![c0];
-                let (bf, bn, _) = self.walk(v, c0, eout, c0, &mut seen_b);
-                seen.extend_from_slice(&seen_b[1..]);
-                let mut neighbors: Vec<u32> = bn.into_iter().rev().collect();
-                neighbors.push(first);
-                neighbors.push(second);
-                neighbors.extend(fn_);
-                let mut faces: Vec<u32> = bf.into_iter().rev().collect();
-                faces.push(self.corner_face[c0 as usize]);
-                faces.extend(ff);
-                Fan {
-                    neighbors,
-                    faces,
-                    closed: false,
-                }
-            };
-            done.extend_from_slice(&seen);
-            out.push(fan);
+            self.fan_from(v, c0, &mut done, &mut fwd, &mut bwd, Some(&mut out));
         }
         out
+    }
+
+    /// `self.fans(v).len()`, without building the fans: the same walks, collecting only the
+    /// corners visited. Validation, repair and the component summary need only the count
+    /// (and the fans themselves only where it exceeds one).
+    pub fn fan_count(&self, v: u32) -> usize {
+        let corners = self.vertex_corners(v);
+        let mut done: Vec<u32> = Vec::with_capacity(corners.len());
+        let (mut fwd, mut bwd) = (Vec::with_capacity(corners.len()), Vec::new());
+        let mut n = 0;
+        for &c0 in corners {
+            if done.contains(&c0) {
+                continue;
+            }
+            self.fan_from(v, c0, &mut done, &mut fwd, &mut bwd, None);
+            n += 1;
+        }
+        n
     }
 
     /// The one-ring of a manifold vertex in cyclic order, or `None` when `v` is unused or
@@ -673,13 +726,17 @@ impl Topology {
                             vc += 1;
                             // Fans of `v` inside this component: components that only
                             // touch at `v` leave each of them manifold there.
-                            let fans = self.fans(v);
-                            let own = fans
-                                .iter()
-                                .filter(|fan| comp[fan.faces[0] as usize] == i as u32)
-                                .count();
-                            if own > 1 {
-                                manifold = false;
+                            // Only a vertex with several fans can have several in one
+                            // component: count first, build the fans only then.
+                            if self.fan_count(v) > 1 {
+                                let own = self
+                                    .fans(v)
+                                    .iter()
+                                    .filter(|fan| comp[fan.faces[0] as usize] == i as u32)
+                                    .count();
+                                if own > 1 {
+                                    manifold = false;
+                                }
                             }
                         }
                         let e = self.corner_edge[c as usize];

@@ -2,10 +2,10 @@
 //! ids in the input (file) order.
 
 use crate::PolygonMesh;
+use crate::fasthash::{FaceKey, FastMap};
 use crate::geometry::{Aabb, newell_normal};
 use crate::topology::{Component, Topology};
 use glam::DVec3;
-use std::collections::HashMap;
 use std::fmt;
 
 /// Default relative area below which a face is degenerate: `area <= 1e-14 * diagonal²`.
@@ -322,7 +322,8 @@ pub fn validate_with(mesh: &PolygonMesh, options: &ValidationOptions) -> Validat
     }
     let threshold = options.degenerate_area * diag * diag;
     let mut pts: Vec<DVec3> = Vec::new();
-    let mut seen: HashMap<Vec<u32>, u32> = HashMap::new();
+    // Keys compare the sorted vertex ids exactly; see `fasthash` for why the fast hasher.
+    let mut seen: FastMap<FaceKey, u32> = FastMap::default();
     for (k, &f) in ids.iter().enumerate() {
         let face = &corners[offsets[k] as usize..offsets[k + 1] as usize];
         pts.clear();
@@ -331,8 +332,7 @@ pub fn validate_with(mesh: &PolygonMesh, options: &ValidationOptions) -> Validat
         if area.is_finite() && area <= threshold {
             findings.push(Finding::DegenerateFace { face: f, area });
         }
-        let mut key = face.to_vec();
-        key.sort_unstable();
+        let key = FaceKey::new(face);
         match seen.get(&key) {
             Some(&g) => findings.push(Finding::DuplicateFace {
                 face: f,
@@ -376,7 +376,7 @@ pub fn validate_with(mesh: &PolygonMesh, options: &ValidationOptions) -> Validat
     }
     for v in 0..nv as u32 {
         if topo.vertex_corners(v).len() > 1 {
-            let fans = topo.fans(v).len();
+            let fans = topo.fan_count(v);
             if fans > 1 {
                 findings.push(Finding::NonManifoldVertex {
                     vertex: v,

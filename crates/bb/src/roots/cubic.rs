@@ -89,6 +89,15 @@ impl CardanoCubic {
         if a == 0.0 || !(a.is_finite() && b.is_finite() && c.is_finite() && d.is_finite()) {
             return None;
         }
+        Self::new_finite(coeffs)
+    }
+
+    /// [`Self::new`] for coefficients already known finite with `a ≠ 0` (the hot path of
+    /// [`shooting_root`] has checked both), skipping those checks; the overflow check on
+    /// `p`, `q`, `Δ` stays.
+    #[inline(always)]
+    fn new_finite(coeffs: [f64; 4]) -> Option<Self> {
+        let [d, c, b, a] = coeffs;
         // One division, then products: β, γ, δ carry at most 2u relative error each.
         let inv = 1.0 / a;
         let (beta, gamma, delta0) = (b * inv, c * inv, d * inv);
@@ -148,9 +157,15 @@ impl CardanoCubic {
     /// `(ρ, cos θ)` for `Δ < 0`: `ρ = √(−p/3)`, `cos θ = (−q/2)/ρ³`.
     #[inline(always)]
     fn rho_cos_theta(&self) -> (f64, f64) {
-        let rho = (-self.p / 3.0).max(0.0).sqrt();
-        let r3 = rho * rho * rho;
-        let z = if r3 > 0.0 { -0.5 * self.q / r3 } else { 1.0 };
+        // m = −p/3 by a multiplication (one more rounding than the division: the start only
+        // needs ~1e-9). cos θ = (−q/2)/ρ³ = (−q/2) ρ/m² (ρ² = m): 1/m² is formed while the
+        // square root runs, instead of a division after it.
+        let m = (-self.p * (1.0 / 3.0)).max(0.0);
+        let inv_m2 = 1.0 / (m * m);
+        let rho = m.sqrt();
+        let z = -0.5 * self.q * inv_m2 * rho;
+        // m = 0 (or m² underflowing): z would be 0·∞ or ∞; take θ = 0 as before.
+        let z = if inv_m2.is_finite() { z } else { 1.0 };
         (rho, z)
     }
 
@@ -312,7 +327,8 @@ pub fn shooting_root(coeffs: [f64; 4]) -> Result<Option<ShootingRoot>, BbError> 
     } else {
         // `new` only fails for a = 0 or overflow; the latter is out of range for a cubic
         // whose coefficients are finite and |a| ≥ 2^-20 scale, so fall back defensively.
-        let Some(cc) = CardanoCubic::new(coeffs) else {
+        // Finite (checked on entry) and a ≠ 0 (|a| > 2^-20 scale ≥ 0 here).
+        let Some(cc) = CardanoCubic::new_finite(coeffs) else {
             return degenerate_near_one(coeffs);
         };
         match cardano_smallest_s(&cc, a, b, d) {
@@ -320,8 +336,7 @@ pub fn shooting_root(coeffs: [f64; 4]) -> Result<Option<ShootingRoot>, BbError> 
             None => return Ok(None),
         }
     };
-    let s = polish_s(&coeffs, s);
-    let t = s / (1.0 + s);
+    let t = polish_t(&coeffs, s);
     if t >= 1.0 || t.is_nan() {
         // s beyond 2^53: the root is t = 1 to working precision, outside [0, 1).
         return Ok(None);
@@ -444,6 +459,59 @@ fn polish_s(b: &[f64; 4], s0: f64) -> f64 {
         }
     }
     s
+}
+
+/// [`polish_s`] followed by `t = s/(1 + s)`, with the common case — one Newton step that passes
+/// the stopping rule — done with a single division instead of two.
+///
+/// With `f = P(s₀)`, `f' = P'(s₀)` the Newton iterate is `s₁ = s₀ − f/f'`, and
+/// `t₁ = s₁/(1 + s₁) = N/(N + f')` with `N = s₀f' − f = s₁f'` (multiply numerator and
+/// denominator by `f'`). The checks of [`polish_s`]'s first iteration are rewritten without
+/// the quotient `h = f/f'` by multiplying through by `f'` or `f'²` (signs are preserved):
+/// * bracket, `s₀` below the root (`sign f = sign b_0`): `s₁ ≥ s₀` ⇔ `h ≤ 0` ⇔ `f f' ≤ 0`;
+///   above it: `0 ≤ s₁ ≤ s₀` ⇔ `f f' ≥ 0` and `N f' ≥ 0`;
+/// * stopping rule `|P''| h² ≤ 2u|f' s₁|` ⇔ `|P''| f² ≤ 2u f'² |N|`. An overflowed or
+///   underflowed right side is rejected (`is_normal`); an underflowed left side is below the
+///   normal right side, so the comparison stays right, and an overflowed one fails it.
+///
+/// Error bound of the result: the stopping rule bounds the error of `s₁` by `u s₁` (see
+/// [`polish_s`]; Newton's error after one step is `|P''/(2P')| h² (1 + O(h))`). So a Cardano
+/// start with relative error `e` in `s` needs only `|P''/(2P')| e² s ≤ u`, e.g. `e ≤ 1e-8`
+/// when `|P'' s/(2P')| ≤ 1`, which holds for simple roots away from a double root; any start
+/// that misses the bound falls through to the full loop of [`polish_s`], so the accuracy is
+/// the same as before and only the common case is cheaper. Rounding of `t₁`: we also require
+/// `|f| ≤ |s₀f'|/2`, i.e. `|h| ≤ s₀/2` (or `s₀ = 0`, where `N = −f` is exact), so that
+/// `N = s₀f' − f` does not cancel: its rounding error is `u(|s₀f'| + |f|) + u|N| ≤ 4u|N|`;
+/// `N + f' = f'(s₁ + 1)` adds terms of one sign (`s₁ ≥ 0`) and the quotient one more
+/// rounding, so `t₁` is within `≈ 10u` relative, as `s₁/(1 + s₁)` after [`polish_s`] (the
+/// rounding of `s₁` plus two).
+#[inline(always)]
+fn polish_t(b: &[f64; 4], s0: f64) -> f64 {
+    let [d, c, bb, a] = *b;
+    let (c3, b3) = (3.0 * c, 3.0 * bb);
+    // Estrin's scheme instead of Horner's (shorter dependency chain: `s²` and the two
+    // linear halves are independent). Each term `C(3,k) b_k s^k` passes through at most five
+    // roundings, so the error bound `γ_6 Σ_k C(3,k)|b_k| s^k` of [`polish_s`] still holds.
+    let s2 = s0 * s0;
+    let f = (d + s0 * c3) + s2 * (b3 + s0 * a);
+    let df = (c3 + s0 * (2.0 * b3)) + s2 * (3.0 * a);
+    let d2f = 2.0 * b3 + s0 * (6.0 * a);
+    let n = s0 * df - f;
+    let below = (f < 0.0) == (d < 0.0);
+    let fdf = f * df;
+    let bracket_ok = if below {
+        fdf <= 0.0
+    } else {
+        fdf >= 0.0 && n * df >= 0.0
+    };
+    let rhs = 2.0 * U * (df * df) * n.abs();
+    let converged = (d2f * f * f).abs() <= rhs && rhs.is_normal();
+    let no_cancel = s0 == 0.0 || f.abs() <= 0.5 * (s0 * df).abs();
+    if f != 0.0 && bracket_ok && converged && no_cancel {
+        return n / (n + df);
+    }
+    let s = polish_s(b, s0);
+    s / (1.0 + s)
 }
 
 /// All real roots in `[0, 1]` of `Σ b_k B_k^n(t)` for `n ≤ 3` (1 to 4 coefficients), sorted,
@@ -702,6 +770,27 @@ fn newton_bracketed(c: &[f64], t0: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The fused one-division polish agrees with the full loop followed by `s/(1 + s)` to a
+    /// few ulps, from starts perturbed by 1e-9 relative (the Cardano fast path's accuracy).
+    #[test]
+    fn fused_polish_matches_loop() {
+        for k in 0..64 {
+            let x = (k * 37 % 64) as f64 / 64.0;
+            let y = (k * 11 % 64) as f64 / 64.0;
+            let b = [-0.2 - x, 2.0 * y - 1.5, 0.1 + x * y, 0.5 + y];
+            let t0 = shooting_root(b).unwrap().unwrap().t;
+            let exact = polish_s(&b, t0 / (1.0 - t0));
+            for e in [-1e-9, 0.0, 1e-9] {
+                let t = polish_t(&b, exact * (1.0 + e));
+                let reference = exact / (1.0 + exact);
+                assert!(
+                    (t - reference).abs() <= 16.0 * U * reference,
+                    "{b:?}: {t} {reference}"
+                );
+            }
+        }
+    }
 
     /// The fast path against the reference formulas, on a grid of cubics covering Δ of both
     /// signs and q of both signs.

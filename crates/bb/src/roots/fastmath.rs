@@ -25,7 +25,11 @@ pub(crate) fn inv_cbrt(x: f64) -> f64 {
     }
     let mut r = f64::from_bits(0x553F_0000_0000_0000 - x.to_bits() / 3);
     for _ in 0..3 {
-        r *= (4.0 - x * (r * r * r)) * (1.0 / 3.0);
+        // The same step `r (4 − x r³)/3`, associated for latency: `x r`, `r²` and `r/3` are
+        // independent products, so the chain is three multiplications and one subtraction
+        // instead of five (each regrouping changes only the rounding, a few ulps, far below
+        // the 5.1e-10 truncation error of the third step).
+        r = (r * (1.0 / 3.0)) * (4.0 - (x * r) * (r * r));
     }
     r
 }

@@ -1,0 +1,88 @@
+//! Mesh pipeline benchmarks (issue targets: bunny load → validate → repair → normals under
+//! 150 ms on the 2-core machine; BVH build and 1 M closest-point queries).
+//! Run: `cargo bench -p algesurf-benches --bench mesh`. Reads the bunny from
+//! `ALGESURF_CORPUS` (default `../shared/data`); without it, an icosphere of similar size
+//! stands in and the output says so.
+
+use algesurf::io;
+use algesurf::mesh::{
+    NormalMethod, RepairOptions, TriMesh, TriangleBvh, repair, validate, vertex_normals,
+};
+use divan::{Bencher, black_box};
+use glam::DVec3;
+use std::path::PathBuf;
+
+fn main() {
+    divan::main();
+}
+
+fn bunny_path() -> Option<PathBuf> {
+    let dir = std::env::var_os("ALGESURF_CORPUS")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| {
+            PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shared/data"))
+        });
+    let p = dir.join("stanford-bunny.obj");
+    p.is_file().then_some(p)
+}
+
+/// The whole front end of `algesurf smooth`: read, validate, repair, adjacency, Loop normals.
+#[divan::bench(sample_count = 20)]
+fn bunny_load_to_normals(bencher: Bencher) {
+    let Some(path) = bunny_path() else {
+        eprintln!("bunny not found (set ALGESURF_CORPUS): benchmarking nothing");
+        return;
+    };
+    bencher.bench(|| {
+        let poly = io::read(&path).unwrap();
+        let report = validate(&poly);
+        let repaired = repair(&poly, &RepairOptions::default()).unwrap();
+        let mesh = TriMesh::from_polygon_mesh(&repaired.mesh).unwrap();
+        let n = vertex_normals(&mesh, NormalMethod::Loop).unwrap();
+        black_box((report, n))
+    });
+}
+
+fn bunny_mesh() -> TriMesh {
+    match bunny_path() {
+        Some(p) => {
+            let poly = io::read(&p).unwrap();
+            TriMesh::from_polygon_mesh(&repair(&poly, &RepairOptions::default()).unwrap().mesh)
+                .unwrap()
+        }
+        None => {
+            eprintln!("bunny not found: using icosphere(6) instead");
+            algesurf::mesh::shapes::icosphere(6)
+        }
+    }
+}
+
+#[divan::bench(sample_count = 20)]
+fn bvh_build(bencher: Bencher) {
+    let mesh = bunny_mesh();
+    bencher.bench(|| black_box(TriangleBvh::new(&mesh)));
+}
+
+/// 1 M closest-point queries at points spread through the bounding box.
+#[divan::bench(sample_count = 5)]
+fn closest_point_1m_queries(bencher: Bencher) {
+    let mesh = bunny_mesh();
+    let bvh = TriangleBvh::new(&mesh);
+    let bb = mesh.bounding_box();
+    let pts: Vec<DVec3> = (0..1_000_000u64)
+        .map(|k| {
+            // Low-discrepancy (additive recurrence) points in the box.
+            let f = |a: f64| (k as f64 * a).fract();
+            bb.min
+                + (bb.max - bb.min)
+                    * DVec3::new(f(0.754_877_666), f(0.569_840_291), f(0.431_857_643))
+        })
+        .collect();
+    bencher.bench(|| {
+        let mut acc = 0.0;
+        for p in &pts {
+            acc += bvh.closest_point(*p).map_or(0.0, |c| c.distance);
+        }
+        black_box(acc)
+    });
+}
