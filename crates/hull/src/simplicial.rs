@@ -160,8 +160,16 @@ impl SimplicialHull {
                 adjusted_normals: Vec::new(),
                 options: options.clone(),
             };
-            let hits = if options.check_intersections {
+            // Overlaps between tetrahedra of different connected components are between
+            // different surfaces (the Utah teapot's spout passes through its body): no
+            // refinement separates them, so only same-component overlaps are refined; the
+            // others are reported by `distant_intersections()`.
+            let hits: Vec<Intersection> = if options.check_intersections {
+                let component = hull.face_components();
                 hull.intersections()
+                    .into_iter()
+                    .filter(|h| hull.same_component(&component, h.first.element, h.second.element))
+                    .collect()
             } else {
                 Vec::new()
             };
@@ -186,18 +194,8 @@ impl SimplicialHull {
                 reason,
             };
             if round == options.max_refinement_rounds {
-                // §3.1 resolves intersecting tetrahedra by refinement. Overlaps that survive every
-                // round between elements far apart on the mesh whose own triangles intersect
-                // come from an input that intersects itself (the Utah teapot's spout and handle
-                // pass through its body): no refinement undoes that, so they are left in place
-                // and reported by `distant_intersections()`; each patch is evaluated in its own
-                // tetrahedra, so the surface follows the input there.
-                // Accepted only where the mesh triangles of the two elements themselves intersect
-                // (input self-intersection); any other remaining overlap is an error.
-                if let Some(adjacent) = hits.iter().find(|h| {
-                    hull.elements_adjacent(h.first.element, h.second.element)
-                        || !hull.elements_triangles_intersect(h.first.element, h.second.element)
-                }) {
+                // Same-component overlaps that survive every round are an error.
+                if let Some(adjacent) = hits.first() {
                     let [a, b] = hull.edges[hull.conflict_edge(adjacent) as usize].vertices;
                     return Err(HullError::UnresolvedIntersection {
                         edge: state.input_edge(a, b),
@@ -255,37 +253,33 @@ impl SimplicialHull {
         self.element_vertices(b).iter().any(|v| va.contains(v))
     }
 
-    /// Whether a mesh triangle of element `a` intersects one of element `b` (each edge of one
-    /// triangle tested as a segment against the other, Möller–Trumbore in f64; touching
-    /// coplanar triangles are not counted).
-    pub fn elements_triangles_intersect(&self, a: Element, b: Element) -> bool {
-        let tri =
-            |f: u32| self.mesh.triangles()[f as usize].map(|v| self.mesh.positions()[v as usize]);
-        let crosses = |t: [DVec3; 3], u: [DVec3; 3]| {
-            (0..3).any(|k| {
-                let (p, q) = (t[k], t[(k + 1) % 3]);
-                algesurf_mesh::primitives::ray_triangle(p, q - p, u, 0.0, 1.0).is_some()
-            })
-        };
-        self.element_faces(a).iter().any(|&fa| {
-            self.element_faces(b)
-                .iter()
-                .any(|&fb| crosses(tri(fa), tri(fb)) || crosses(tri(fb), tri(fa)))
-        })
+    /// The connected component of every face.
+    fn face_components(&self) -> Vec<u32> {
+        let mut c = vec![0u32; self.mesh.face_count()];
+        for (i, comp) in self.mesh.components().iter().enumerate() {
+            for &f in &comp.faces {
+                c[f as usize] = i as u32;
+            }
+        }
+        c
     }
 
-    /// Overlapping tetrahedra of elements that share no mesh vertex and whose mesh triangles
-    /// intersect: places where the input intersects itself (the Utah teapot's spout and handle
-    /// pass through its body). Refinement cannot undo them; they are reported, and each patch
-    /// is still evaluated in its own tetrahedra, so the surface follows the input there (see
-    /// [`SimplicialHull::new`]).
+    fn same_component(&self, component: &[u32], a: Element, b: Element) -> bool {
+        let ca = component[self.element_faces(a)[0] as usize];
+        let cb = component[self.element_faces(b)[0] as usize];
+        ca == cb
+    }
+
+    /// Overlapping tetrahedra of different connected components of the mesh: places where
+    /// separate surfaces of the input come within the hull's thickness of each other or pass
+    /// through each other (the Utah teapot's spout and handle pass through its body).
+    /// Refinement cannot separate them, so they are reported and not refined; each patch is
+    /// still evaluated in its own tetrahedra, so the surfaces follow the input there.
     pub fn distant_intersections(&self) -> Vec<Intersection> {
+        let component = self.face_components();
         self.intersections()
             .into_iter()
-            .filter(|h| {
-                !self.elements_adjacent(h.first.element, h.second.element)
-                    && self.elements_triangles_intersect(h.first.element, h.second.element)
-            })
+            .filter(|h| !self.same_component(&component, h.first.element, h.second.element))
             .collect()
     }
 

@@ -257,3 +257,23 @@ fn bad_input_is_reported() {
         Err(HullError::InvalidOption(_))
     ));
 }
+
+/// Two spheres passing through each other are separate components: their tetrahedra overlap
+/// where the surfaces meet, refinement cannot change that, so the hull is built unrefined and
+/// reports those overlaps (the Utah teapot's spout and body are such a pair).
+#[test]
+fn interpenetrating_components_are_reported_not_refined() {
+    use algesurf_mesh::shapes::icosphere;
+    let s = icosphere(1);
+    let nv = s.vertex_count() as u32;
+    let mut pos: Vec<DVec3> = s.positions().to_vec();
+    pos.extend(s.positions().iter().map(|p| *p + DVec3::new(1.2, 0.0, 0.0)));
+    let mut tris: Vec<[u32; 3]> = s.triangles().to_vec();
+    tris.extend(s.triangles().iter().map(|t| t.map(|v| v + nv)));
+    let normals: Vec<DVec3> = s.positions().iter().chain(s.positions()).map(|p| p.normalize()).collect();
+    let hull = SimplicialHull::new(&pos, &tris, &normals, &HullOptions::default()).unwrap();
+    assert!(hull.refinements().is_empty());
+    let distant = hull.distant_intersections();
+    assert!(!distant.is_empty());
+    assert_eq!(distant.len(), hull.intersections().len());
+}
