@@ -80,14 +80,20 @@ impl SimplicialHull {
     ///
     /// Procedure (§3.1): build all tetrahedra; find every pair whose interiors overlap
     /// (candidates from a bounding-volume hierarchy over all face and edge tetrahedra, adjacent
-    /// or not; each decided by [`crate::overlap_depth`]); if there are any, bisect every face
+    /// or not; each decided by [`crate::overlap_depth`]). Pairs from different connected
+    /// components of the mesh (separate surfaces that meet, like the Utah teapot's spout and
+    /// body) cannot be separated by refinement: they are left and reported by
+    /// [`SimplicialHull::distant_intersections`]. If any same-component pair remains, bisect every face
     /// of every such pair (for an edge tetrahedron: both faces of its edge) by Rivara's
     /// longest-edge propagation, each split putting the new vertex at the modified Butterfly
     /// edge point and giving it the unit Loop limit normal of the refined mesh; rebuild and
     /// repeat, at most [`HullOptions::max_refinement_rounds`] times. The paper splits only the
     /// common edge; that makes slivers whose tetrahedra stay as tall as before and did not
-    /// resolve intersections in our tests, hence the bisection of the faces. Input vertices
-    /// keep their positions, ids and normals.
+    /// resolve intersections in our tests, hence the bisection of the faces. Each split also
+    /// re-conditions the normals of the vertices of the faces it tilted so they stay on those
+    /// faces' positive side (`algesurf_mesh::condition_vertex_normals`); the vertices changed
+    /// are listed by [`SimplicialHull::adjusted_normals`]. Input vertices keep their positions
+    /// and ids.
     ///
     /// # Errors
     /// See [`HullError`]; [`HullError::UnresolvedIntersection`] names the input edge when

@@ -270,7 +270,12 @@ fn interpenetrating_components_are_reported_not_refined() {
     pos.extend(s.positions().iter().map(|p| *p + DVec3::new(1.2, 0.0, 0.0)));
     let mut tris: Vec<[u32; 3]> = s.triangles().to_vec();
     tris.extend(s.triangles().iter().map(|t| t.map(|v| v + nv)));
-    let normals: Vec<DVec3> = s.positions().iter().chain(s.positions()).map(|p| p.normalize()).collect();
+    let normals: Vec<DVec3> = s
+        .positions()
+        .iter()
+        .chain(s.positions())
+        .map(|p| p.normalize())
+        .collect();
     let hull = SimplicialHull::new(&pos, &tris, &normals, &HullOptions::default()).unwrap();
     assert!(hull.refinements().is_empty());
     let distant = hull.distant_intersections();

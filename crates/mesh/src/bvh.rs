@@ -216,20 +216,30 @@ impl BoxBvh {
     /// Branch-and-bound nearest search: calls `leaf(id, bound)` for every primitive whose
     /// conservative box is within squared distance `bound` of `p`, where `bound` is the
     /// squared distance `leaf` returned last (initially infinite). Subtrees and primitives
-    /// farther than the current bound are skipped, the nearer child is descended first
-    /// without touching the stack, and deferred siblings are re-checked against the bound
-    /// when popped. The comparisons are `<=`, so every primitive at exactly the final best
-    /// distance is still visited (ties are then decided by the caller independently of the
+    /// farther than the current bound are skipped, and nodes are expanded nearest first.
+    /// The comparisons are `<=`, so every primitive at exactly the final best distance is
+    /// still visited (ties are then decided by the caller independently of the
     /// visiting order).
     fn nearest(&self, p: DVec3, mut leaf: impl FnMut(u32, f64) -> f64) {
+        use std::cmp::Reverse;
         let Some(tree) = &self.tree else { return };
         if tree.nodes.is_empty() {
             return;
         }
         let mut bound = f64::INFINITY;
-        let mut stack: Stack<(u32, f64)> = Stack::new((0, 0.0));
-        let mut i = 0u32;
-        'walk: loop {
+        // Best-first: nodes pop in increasing box distance. Depth-first order is poor here
+        // because many nested boxes contain an interior query point (distance 0 for all),
+        // so the first leaves reached can be far from the surface. The keys are squared
+        // distances, never NaN (finite `p`) and never negative, so their bit patterns order
+        // as the values do.
+        let mut heap: std::collections::BinaryHeap<(Reverse<u64>, u32)> =
+            std::collections::BinaryHeap::with_capacity(64);
+        heap.push((Reverse(0f64.to_bits()), 0));
+        while let Some((Reverse(kb), i)) = heap.pop() {
+            // Every node left has a key at least this one: all beyond the bound.
+            if f64::from_bits(kb) > bound {
+                break;
+            }
             let n = &tree.nodes[i as usize];
             if n.is_leaf() {
                 let s = n.first_index as usize;
@@ -240,29 +250,13 @@ impl BoxBvh {
                     }
                 }
             } else {
-                let (l, r) = (n.first_index, n.first_index + 1);
-                let dl = self.node_boxes[l as usize].distance_squared(p);
-                let dr = self.node_boxes[r as usize].distance_squared(p);
-                let ((near, dn), (far, df)) = if dl <= dr {
-                    ((l, dl), (r, dr))
-                } else {
-                    ((r, dr), (l, dl))
-                };
-                if dn <= bound {
-                    if df <= bound {
-                        stack.push((far, df));
+                for c in [n.first_index, n.first_index + 1] {
+                    let d = self.node_boxes[c as usize].distance_squared(p);
+                    if d <= bound {
+                        heap.push((Reverse(d.to_bits()), c));
                     }
-                    i = near;
-                    continue 'walk;
                 }
             }
-            while let Some((j, d)) = stack.pop() {
-                if d <= bound {
-                    i = j;
-                    continue 'walk;
-                }
-            }
-            return;
         }
     }
 
