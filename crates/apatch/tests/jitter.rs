@@ -14,11 +14,17 @@ fn jitter(mesh: &TriMesh, seed: u64, amount: f64) -> TriMesh {
     // Deterministic per-vertex offsets from a small LCG (proptest supplies the seed).
     let mut state = seed | 1;
     let mut next = || {
-        state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
         ((state >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
     };
     let scale = mesh.bounding_box().diagonal();
-    let pos = mesh.positions().iter().map(|p| *p + DVec3::new(next(), next(), next()) * amount * scale).collect();
+    let pos = mesh
+        .positions()
+        .iter()
+        .map(|p| *p + DVec3::new(next(), next(), next()) * amount * scale)
+        .collect();
     TriMesh::new(pos, mesh.triangles().to_vec()).unwrap()
 }
 
@@ -37,9 +43,17 @@ fn check(mesh: &TriMesh, normal_tilt: f64, seed: u64) -> Result<(), TestCaseErro
     let c = surface.continuity_report(6);
     prop_assert!(c.value.value <= 1e-10 && c.gradient.value <= 1e-8, "{c:?}");
     let i = surface.interpolation_report();
-    prop_assert!(i.value.value <= 1e-12 && i.normal_angle.value <= 1e-9, "{i:?}");
+    prop_assert!(
+        i.value.value <= 1e-12 && i.normal_angle.value <= 1e-9,
+        "{i:?}"
+    );
     let t = surface.tessellate(3, 3).unwrap();
-    prop_assert!(t.missed_rays.is_empty() && t.multiple_roots.is_empty(), "{} missed, {} multiple", t.missed_rays.len(), t.multiple_roots.len());
+    prop_assert!(
+        t.missed_rays.is_empty() && t.multiple_roots.is_empty(),
+        "{} missed, {} multiple",
+        t.missed_rays.len(),
+        t.multiple_roots.len()
+    );
     let na = surface.normal_agreement(&t);
     prop_assert!(na.value <= 1e-8, "normals differ by {:e}", na.value);
     let mut directed: HashMap<(u32, u32), usize> = HashMap::new();
@@ -48,7 +62,12 @@ fn check(mesh: &TriMesh, normal_tilt: f64, seed: u64) -> Result<(), TestCaseErro
             *directed.entry((tri[k], tri[(k + 1) % 3])).or_default() += 1;
         }
     }
-    prop_assert!(directed.iter().all(|(&(a, b), &n)| n == 1 && directed.get(&(b, a)) == Some(&1)), "not a closed manifold");
+    prop_assert!(
+        directed
+            .iter()
+            .all(|(&(a, b), &n)| n == 1 && directed.get(&(b, a)) == Some(&1)),
+        "not a closed manifold"
+    );
     let used: std::collections::HashSet<u32> = t.triangles.iter().flatten().copied().collect();
     let euler = used.len() as i64 - (directed.len() / 2) as i64 + t.triangles.len() as i64;
     prop_assert_eq!(euler, surface.hull().mesh().euler_characteristic());
