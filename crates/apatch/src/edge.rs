@@ -11,6 +11,7 @@
 //! `(a τ0 + b τ3)/(τ0 + τ3)` takes `b` from the `k` side and `a` from the `l` side; their
 //! polynomial part is zero (Step 7's "number 5" coefficients).
 
+use crate::geometry::{exact_barycentric, value_gradient_with};
 use crate::rational::edge_term;
 use crate::{ApatchError, FaceCubic};
 use algesurf_bb::{BbPoly, Tetrahedron, multi_index};
@@ -116,15 +117,7 @@ impl EdgeCubic {
         let tet = Tetrahedron::new([ul, pi, pj, uk])?;
         let side = |n: &EdgeNeighbour| -> (BbPoly<f64, 4>, [[f64; 4]; 4]) {
             let t = &n.tet;
-            // Exact unit vectors for the side's own vertices (barycentric() would round).
-            let bary = |p: DVec3| match (0..4).find(|&i| t.vertex(i) == p) {
-                Some(i) => {
-                    let mut e = [0.0; 4];
-                    e[i] = 1.0;
-                    e
-                }
-                None => t.barycentric(p),
-            };
+            let bary = |p: DVec3| exact_barycentric(t, p);
             (n.poly.clone(), [bary(ul), bary(pi), bary(pj), bary(uk)])
         };
         let (pk, vk) = side(k);
@@ -191,14 +184,9 @@ impl EdgeCubic {
 
     /// F and its Cartesian gradient at `x`.
     pub fn value_gradient(&self, x: DVec3) -> (f64, DVec3) {
-        let tau = self.tet.barycentric(x);
-        let (r, dr) = edge_term(tau, self.rational);
-        let g = self.tet.barycentric_gradients();
-        let mut grad = self.poly.gradient_at(&self.tet, x);
-        for i in 0..4 {
-            grad += g[i] * dr[i];
-        }
-        (self.poly.eval(tau) + r, grad)
+        value_gradient_with(&self.tet, &self.poly, x, |tau| {
+            edge_term(tau, self.rational)
+        })
     }
 
     /// Coefficients of the shooting polynomial (4.9) from `q = x p_i + (1 − x) p_j` to

@@ -20,6 +20,7 @@
 //! conditions with both neighbours of an edge consistent.
 
 use crate::ApatchError;
+use crate::geometry::{foot, value_gradient_with};
 use crate::rational::face_term;
 use algesurf_bb::{BbPoly, Tetrahedron, continuity, multi_index};
 use glam::DVec3;
@@ -47,12 +48,6 @@ pub struct FaceCubic {
     /// Residual of the least-squares fit (4.13), relative to the largest coefficient: 0 when
     /// the data come from a quadric.
     fit_residual: f64,
-}
-
-/// The point on the line through `a` and `b` closest to `x`.
-fn foot(x: DVec3, a: DVec3, b: DVec3) -> DVec3 {
-    let e = b - a;
-    a + e * ((x - a).dot(e) / e.length_squared())
 }
 
 /// Solves `D_d F(m) = target` for the coefficient at `lambda`, all others fixed: the
@@ -236,14 +231,9 @@ impl FaceCubic {
 
     /// F and its Cartesian gradient at the point `x`.
     pub fn value_gradient(&self, x: DVec3) -> (f64, DVec3) {
-        let tau = self.tet.barycentric(x);
-        let (r, dr) = face_term(tau, self.rational);
-        let g = self.tet.barycentric_gradients();
-        let mut grad = self.poly.gradient_at(&self.tet, x);
-        for i in 0..4 {
-            grad += g[i] * dr[i];
-        }
-        (self.poly.eval(tau) + r, grad)
+        value_gradient_with(&self.tet, &self.poly, x, |tau| {
+            face_term(tau, self.rational)
+        })
     }
 
     /// Coefficients `[B_0(q), B_1(q), B_2(q), B_3]` of the shooting polynomial (4.8) from the

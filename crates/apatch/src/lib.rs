@@ -9,6 +9,7 @@
 pub mod edge;
 pub mod error;
 pub mod face;
+mod geometry;
 pub mod quadric;
 pub mod rational;
 pub mod sheet;

@@ -18,6 +18,7 @@
 //! satisfies, so it is the target's: `(f + 2 q)/3` as in (4.14), keeping Lemma 2.3's
 //! `b t²` lifting for the single-sheet bound.
 
+use crate::geometry::{exact_barycentric, foot};
 use crate::{ApatchError, Quadric, VertexData};
 use algesurf_bb::{BbPoly, PowerPoly, Tetrahedron, multi_index};
 use glam::DVec3;
@@ -61,16 +62,6 @@ fn continuation_weights(a: &Tetrahedron, b: &Tetrahedron, lambda: [usize; 4]) ->
     w
 }
 
-/// Barycentric coordinates with exact unit vectors for the simplex's own vertices.
-fn exact_barycentric(t: &Tetrahedron, p: DVec3) -> [f64; 4] {
-    if let Some(i) = (0..4).find(|&i| t.vertex(i) == p) {
-        let mut e = [0.0; 4];
-        e[i] = 1.0;
-        return e;
-    }
-    t.barycentric(p)
-}
-
 struct System {
     rows: Vec<(Vec<(usize, f64)>, f64)>,
 }
@@ -99,12 +90,6 @@ impl System {
             self.push(terms, 0.0);
         }
     }
-}
-
-/// The point on the line through `a` and `b` closest to `x`.
-fn foot(x: DVec3, a: DVec3, b: DVec3) -> DVec3 {
-    let e = b - a;
-    a + e * ((x - a).dot(e) / e.length_squared())
 }
 
 impl SplitFace {

@@ -201,25 +201,9 @@ impl SimplicialHull {
             };
             if round == options.max_refinement_rounds {
                 // Same-component overlaps that survive every round are an error.
-                if let Some(adjacent) = hits.first() {
-                    let [a, b] = hull.edges[hull.conflict_edge(adjacent) as usize].vertices;
-                    return Err(HullError::UnresolvedIntersection {
-                        edge: state.input_edge(a, b),
-                        faces: [
-                            state.face_map[hull.element_faces(adjacent.first.element)[0] as usize],
-                            state.face_map[hull.element_faces(adjacent.second.element)[0] as usize],
-                        ],
-                        rounds: round,
-                        reason: format!("the limit of {round} rounds is reached"),
-                    });
-                }
-                return Ok(SimplicialHull {
-                    normals: state.normals,
-                    face_map: state.face_map,
-                    refinements: state.refinements,
-                    adjusted_normals: state.adjusted_normals,
-                    ..hull
-                });
+                return Err(unresolved(format!(
+                    "the limit of {round} rounds is reached"
+                )));
             }
             pending = Some(unresolved(String::new()));
             // Faces to bisect, with their corners now (ids of split faces get reused).

@@ -4,73 +4,15 @@
 use algesurf_hull::{Side, SimplicialHull, mid_edge_coefficient};
 use glam::DVec3;
 
-/// The regular icosahedron on the unit sphere, outward oriented.
+/// The regular icosahedron on the unit sphere (the mesh crate's, as positions and triangles).
 pub fn icosahedron() -> (Vec<DVec3>, Vec<[u32; 3]>) {
-    let t = (1.0 + 5f64.sqrt()) / 2.0;
-    let raw = [
-        (-1.0, t, 0.0),
-        (1.0, t, 0.0),
-        (-1.0, -t, 0.0),
-        (1.0, -t, 0.0),
-        (0.0, -1.0, t),
-        (0.0, 1.0, t),
-        (0.0, -1.0, -t),
-        (0.0, 1.0, -t),
-        (t, 0.0, -1.0),
-        (t, 0.0, 1.0),
-        (-t, 0.0, -1.0),
-        (-t, 0.0, 1.0),
-    ];
-    let p = raw
-        .iter()
-        .map(|&(x, y, z)| DVec3::new(x, y, z).normalize())
-        .collect();
-    let f = vec![
-        [0, 11, 5],
-        [0, 5, 1],
-        [0, 1, 7],
-        [0, 7, 10],
-        [0, 10, 11],
-        [1, 5, 9],
-        [5, 11, 4],
-        [11, 10, 2],
-        [10, 7, 6],
-        [7, 1, 8],
-        [3, 9, 4],
-        [3, 4, 2],
-        [3, 2, 6],
-        [3, 6, 8],
-        [3, 8, 9],
-        [4, 9, 5],
-        [2, 4, 11],
-        [6, 2, 10],
-        [8, 6, 7],
-        [9, 8, 1],
-    ];
-    (p, f)
+    icosphere(0)
 }
 
-/// Loop-free midpoint subdivision of the icosahedron projected to the sphere.
+/// Midpoint subdivision of the icosahedron projected to the sphere (the mesh crate's).
 pub fn icosphere(level: u32) -> (Vec<DVec3>, Vec<[u32; 3]>) {
-    let (mut p, mut f) = icosahedron();
-    for _ in 0..level {
-        let mut mid = std::collections::HashMap::new();
-        let mut nf = Vec::new();
-        let mut m = |a: u32, b: u32, p: &mut Vec<DVec3>| -> u32 {
-            *mid.entry((a.min(b), a.max(b))).or_insert_with(|| {
-                p.push(((p[a as usize] + p[b as usize]) * 0.5).normalize());
-                p.len() as u32 - 1
-            })
-        };
-        for t in &f {
-            let ab = m(t[0], t[1], &mut p);
-            let bc = m(t[1], t[2], &mut p);
-            let ca = m(t[2], t[0], &mut p);
-            nf.extend([[t[0], ab, ca], [t[1], bc, ab], [t[2], ca, bc], [ab, bc, ca]]);
-        }
-        f = nf;
-    }
-    (p, f)
+    let m = algesurf_mesh::shapes::icosphere(level);
+    (m.positions().to_vec(), m.triangles().to_vec())
 }
 
 /// Checks the properties t_l, t_lm of §3.1 exist for on every face tetrahedron: the Step 2

@@ -1,0 +1,41 @@
+//! Small geometric helpers shared by the face, split-face and edge constructions.
+
+use algesurf_bb::{BbPoly, Tetrahedron};
+use glam::DVec3;
+
+/// The point on the line through `a` and `b` closest to `x`.
+pub(crate) fn foot(x: DVec3, a: DVec3, b: DVec3) -> DVec3 {
+    let e = b - a;
+    a + e * ((x - a).dot(e) / e.length_squared())
+}
+
+/// Barycentric coordinates of `p` in `t`, with exact unit vectors for `t`'s own vertices
+/// (`Tetrahedron::barycentric` would round them, and blossoms at vertices must be exact for the
+/// C0/C1 coefficients they produce to match their neighbours bit for bit where possible).
+pub(crate) fn exact_barycentric(t: &Tetrahedron, p: DVec3) -> [f64; 4] {
+    if let Some(i) = (0..4).find(|&i| t.vertex(i) == p) {
+        let mut e = [0.0; 4];
+        e[i] = 1.0;
+        return e;
+    }
+    t.barycentric(p)
+}
+
+/// Value and Cartesian gradient at `x` of `poly + R` on `tet`, where `rational(τ)` returns R's
+/// value and formal partials `∂R/∂τ_i` (R homogeneous of degree 3, so the partials combine with
+/// the barycentric gradients like a polynomial's).
+pub(crate) fn value_gradient_with(
+    tet: &Tetrahedron,
+    poly: &BbPoly<f64, 4>,
+    x: DVec3,
+    rational: impl Fn([f64; 4]) -> (f64, [f64; 4]),
+) -> (f64, DVec3) {
+    let tau = tet.barycentric(x);
+    let (r, dr) = rational(tau);
+    let g = tet.barycentric_gradients();
+    let mut grad = poly.gradient_at(tet, x);
+    for i in 0..4 {
+        grad += g[i] * dr[i];
+    }
+    (poly.eval(tau) + r, grad)
+}
