@@ -3,6 +3,7 @@
 //! * `ci`: what `.ci/run` runs: rustfmt check, clippy with `-D warnings`, the README's test
 //!   command (`cargo test --workspace`), then the interoperability checks (our .glb passes the
 //!   Khronos glTF validator; our OBJ/PLY/STL/OFF load in trimesh with the right counts).
+//! * `interop`: only the interoperability checks (what `.ci/run` runs after the tests).
 //! * `dist`: release build of the `algesurf` binary into `dist/` with a SHA-256 file.
 //! * `bench [NAME]`: the divan benchmarks (`cargo bench -p algesurf-benches`).
 //! * `bench smooth [--mesh PATH] [--no-divan]`: the `smooth` divan benchmarks, then the bunny
@@ -122,11 +123,12 @@ fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let result = match args.first().map(String::as_str) {
         Some("ci") => ci(),
+        Some("interop") => interop::run_all(),
         Some("dist") => dist(),
         Some("bench") => bench(&args[1..]),
         _ => {
             eprintln!(
-                "usage: cargo xtask <ci | dist | bench [bb|roots|smooth [--mesh PATH] [--no-divan]]>"
+                "usage: cargo xtask <ci | interop | dist | bench [bb|roots|smooth [--mesh PATH] [--no-divan]]>"
             );
             return ExitCode::from(2);
         }
