@@ -211,6 +211,28 @@ pub(crate) fn derivative_coeffs(b: &[f64], k: usize) -> Vec<f64> {
     d
 }
 
+/// The roots at t = 0 and t = 1 (with their multiplicities, from [`end_multiplicities`]) and
+/// the interior polynomial left after dividing them out ([`deflate`]), with its coefficient
+/// error bounds: the common first step of every root finder here.
+pub(crate) fn split_end_roots(bn: &[f64], e0: f64) -> (Vec<Root>, Vec<f64>, Vec<f64>) {
+    let (m0, m1) = end_multiplicities(bn, e0);
+    let mut roots = Vec::new();
+    if m0 > 0 {
+        roots.push(Root {
+            t: 0.0,
+            multiplicity: m0,
+        });
+    }
+    if m1 > 0 {
+        roots.push(Root {
+            t: 1.0,
+            multiplicity: m1,
+        });
+    }
+    let (q, qe) = deflate(bn, e0, m0, m1);
+    (roots, q, qe)
+}
+
 /// Removes `m0` roots at t = 0 and `m1` at t = 1: with `t^k B_j^{n−k} =
 /// (C(n−k, j)/C(n, j+k)) B_{j+k}^n`, dividing `p` by `t^{m0} (1−t)^{m1}` maps the coefficient
 /// `b_{j+m0}` to `b_{j+m0} C(n, j+m0) / C(n−m0, j)` and similarly at the other end. The

@@ -22,8 +22,8 @@
 //! non-negative s among the real branches.
 
 use super::{
-    Root, RootOptions, UNIT_ROUNDOFF as U, deflate, end_multiplicities, eval_with_derivative,
-    fastmath, find_roots, validate,
+    Root, RootOptions, UNIT_ROUNDOFF as U, eval_with_derivative, fastmath, find_roots,
+    split_end_roots, validate,
 };
 use crate::BbError;
 
@@ -556,21 +556,7 @@ pub fn cubic_roots_closed_form(coeffs: &[f64]) -> Result<Option<Vec<Root>>, BbEr
     }
     let bn: Vec<f64> = coeffs.iter().map(|x| x / m).collect();
     let e0 = RootOptions::for_degree(n).relative_coefficient_error + U;
-    let (m0, m1) = end_multiplicities(&bn, e0);
-    let mut roots = Vec::new();
-    if m0 > 0 {
-        roots.push(Root {
-            t: 0.0,
-            multiplicity: m0,
-        });
-    }
-    if m1 > 0 {
-        roots.push(Root {
-            t: 1.0,
-            multiplicity: m1,
-        });
-    }
-    let (q, qe) = deflate(&bn, e0, m0, m1);
+    let (roots, q, qe) = split_end_roots(&bn, e0);
     let emax = qe.iter().fold(0.0f64, |a, x| a.max(*x));
     let interior = match q.len() - 1 {
         0 => Vec::new(),

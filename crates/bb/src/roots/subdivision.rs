@@ -23,8 +23,8 @@
 //!    (k−1)-th derivative there (a simple root, hence well conditioned).
 
 use super::{
-    MAX_DEGREE, Root, RootOptions, UNIT_ROUNDOFF as U, bracketed_root, deflate, derivative_coeffs,
-    end_multiplicities, eval, restrict, split, validate,
+    MAX_DEGREE, Root, RootOptions, UNIT_ROUNDOFF as U, bracketed_root, derivative_coeffs, eval,
+    restrict, split, split_end_roots, validate,
 };
 use crate::{BbError, BbPoly};
 
@@ -91,21 +91,7 @@ pub fn find_roots_with(b: &[f64], opts: &RootOptions) -> Result<Vec<Root>, BbErr
     // Normalised coefficients: one division each, relative error u; the largest becomes ±1.
     let bn: Vec<f64> = b.iter().map(|x| x / m).collect();
     let e0 = opts.relative_coefficient_error + U;
-    let mut roots = Vec::new();
-    let (m0, m1) = end_multiplicities(&bn, e0);
-    if m0 > 0 {
-        roots.push(Root {
-            t: 0.0,
-            multiplicity: m0,
-        });
-    }
-    if m1 > 0 {
-        roots.push(Root {
-            t: 1.0,
-            multiplicity: m1,
-        });
-    }
-    let (q, qe) = deflate(&bn, e0, m0, m1);
+    let (mut roots, q, qe) = split_end_roots(&bn, e0);
     if q.len() > 1 {
         interior_roots(&q, &qe, &mut roots);
     }
