@@ -347,7 +347,6 @@ pub(crate) fn write(
         (PropertyValues::Int(v), _) => ply::Property::Double(v[i] as f64),
         (PropertyValues::Float(v), _) => float(v[i]),
     };
-    let reserved = |name: &str, extra: &[&str]| extra.contains(&name);
 
     let normals = mesh.normals.as_ref().filter(|_| options.normals);
     let mut vdef = ElementDef::new("vertex".into());
@@ -359,18 +358,13 @@ pub(crate) fn write(
             vdef.properties.insert(c.into(), scalar(c, float_type()));
         }
     }
-    let vskip = ["x", "y", "z", "nx", "ny", "nz"];
-    let vprops: Vec<(&Property, ScalarType)> = mesh
-        .vertex_properties
-        .iter()
-        .filter(|p| !reserved(&p.name, &vskip))
-        .map(|p| (p, prop_type(p)))
-        .collect();
-    for (p, t) in &vprops {
-        check_name(&p.name, ctx)?;
-        vdef.properties
-            .insert(p.name.clone(), scalar(&p.name, t.clone()));
-    }
+    let vprops = extra_properties(
+        &mesh.vertex_properties,
+        &["x", "y", "z", "nx", "ny", "nz"],
+        &mut vdef,
+        &prop_type,
+        ctx,
+    )?;
     let mut verts = Vec::with_capacity(mesh.vertex_count());
     for (i, p) in mesh.positions.iter().enumerate() {
         let mut e = DefaultElement::new();
@@ -404,17 +398,13 @@ pub(crate) fn write(
             PropertyType::List(count_type, ScalarType::Int),
         ),
     );
-    let fprops: Vec<(&Property, ScalarType)> = mesh
-        .face_properties
-        .iter()
-        .filter(|p| !reserved(&p.name, &["vertex_indices"]))
-        .map(|p| (p, prop_type(p)))
-        .collect();
-    for (p, t) in &fprops {
-        check_name(&p.name, ctx)?;
-        fdef.properties
-            .insert(p.name.clone(), scalar(&p.name, t.clone()));
-    }
+    let fprops = extra_properties(
+        &mesh.face_properties,
+        &["vertex_indices"],
+        &mut fdef,
+        &prop_type,
+        ctx,
+    )?;
     let mut faces = Vec::with_capacity(mesh.face_count());
     for (f, face) in mesh.faces().enumerate() {
         let mut e = DefaultElement::new();
@@ -435,6 +425,28 @@ pub(crate) fn write(
         .write_ply(&mut out, &mut ply)
         .map_err(|e| ctx.invalid(e.to_string()))?;
     Ok(out)
+}
+
+/// The extra scalar properties of an element (all but the `reserved` names), declared in its
+/// header definition `def`, each with the type it is written as.
+fn extra_properties<'a>(
+    props: &'a [Property],
+    reserved: &[&str],
+    def: &mut ElementDef,
+    prop_type: &dyn Fn(&Property) -> ScalarType,
+    ctx: Ctx<'_>,
+) -> Result<Vec<(&'a Property, ScalarType)>, IoError> {
+    let list: Vec<(&Property, ScalarType)> = props
+        .iter()
+        .filter(|p| !reserved.contains(&p.name.as_str()))
+        .map(|p| (p, prop_type(p)))
+        .collect();
+    for (p, t) in &list {
+        check_name(&p.name, ctx)?;
+        def.properties
+            .insert(p.name.clone(), scalar(&p.name, t.clone()));
+    }
+    Ok(list)
 }
 
 fn check_name(name: &str, ctx: Ctx<'_>) -> Result<(), IoError> {
