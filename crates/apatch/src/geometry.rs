@@ -39,3 +39,16 @@ pub(crate) fn value_gradient_with(
     }
     (poly.eval(tau) + r, grad)
 }
+
+/// `τ_apex²` as a cubic on a tetrahedron with the apex last: 1/3 on the layer λ_3 = 2, 1 at the
+/// apex. Raising a face side's apex value by δ adds exactly δ·τ_apex² to its pieces: for a convex
+/// face through (4.14); for a split face because τ_apex² meets every hard constraint (zero value
+/// and gradient on the face plane, C1 everywhere) with 1 at the apex, so the constrained
+/// least-squares solution moves by exactly that.
+pub(crate) fn apex_square() -> BbPoly<f64, 4> {
+    BbPoly::from_fn(3, |l| match l[3] {
+        2 => 1.0 / 3.0,
+        3 => 1.0,
+        _ => 0.0,
+    })
+}

@@ -18,7 +18,7 @@
 //! satisfies, so it is the target's: `(f + 2 q)/3` as in (4.14), keeping Lemma 2.3's
 //! `b t²` lifting for the single-sheet bound.
 
-use crate::geometry::{exact_barycentric, foot};
+use crate::geometry::{apex_square, exact_barycentric, foot};
 use crate::{ApatchError, Quadric, VertexData};
 use algesurf_bb::{BbPoly, PowerPoly, Tetrahedron, multi_index};
 use glam::DVec3;
@@ -53,11 +53,17 @@ fn continuation_weights(a: &Tetrahedron, b: &Tetrahedron, lambda: [usize; 4]) ->
     for (s, &l) in lambda.iter().enumerate() {
         args.extend(std::iter::repeat_n(verts[s], l));
     }
+    on_basis(|unit| unit.blossom(&args).expect("three arguments"))
+}
+
+/// A linear functional of cubics (blossom, directional derivative, …) evaluated on each of the
+/// 20 Bernstein basis polynomials: its weights on the coefficients, in storage order.
+fn on_basis(functional: impl Fn(&BbPoly<f64, 4>) -> f64) -> [f64; 20] {
     let mut w = [0.0; 20];
     for (r, mu) in multi_index::iter::<4>(3).enumerate() {
         let mut unit = BbPoly::<f64, 4>::zero(3);
         unit.set(mu, 1.0);
-        w[r] = unit.blossom(&args).expect("three arguments");
+        w[r] = functional(&unit);
     }
     w
 }
@@ -120,7 +126,7 @@ impl SplitFace {
         }
         let n = tets.len() * 20;
         let mut sys = System { rows: Vec::new() };
-        for (side, _) in apexes.iter().enumerate() {
+        for side in 0..apexes.len() {
             let t0 = side * 3;
             for a in 0..3 {
                 let ti = t0 + a;
@@ -147,16 +153,9 @@ impl SplitFace {
                     apexes[side] - foot(apexes[side], p[b], p[cc]),
                 ] {
                     let dir = tets[ti].barycentric_direction(d);
-                    let mut terms = Vec::new();
-                    for (r, mu) in multi_index::iter::<4>(3).enumerate() {
-                        let mut unit = BbPoly::<f64, 4>::zero(3);
-                        unit.set(mu, 1.0);
-                        let w = unit.directional_derivative(m, &[dir]);
-                        if w != 0.0 {
-                            terms.push((ti * 20 + r, w));
-                        }
-                    }
-                    sys.push(terms, d.dot(g));
+                    let weights = on_basis(|unit| unit.directional_derivative(m, &[dir]));
+                    let terms = weights.iter().enumerate().filter(|(_, w)| **w != 0.0);
+                    sys.push(terms.map(|(r, w)| (ti * 20 + r, *w)).collect(), d.dot(g));
                 }
                 // Free parameter at the apex.
                 sys.push(vec![(ti * 20 + 19, 1.0)], f[side]);
@@ -201,19 +200,9 @@ impl SplitFace {
             qp.set(&[0, 1, 0], q.b.y)?;
             qp.set(&[0, 0, 1], q.b.z)?;
             qp.set(&[0, 0, 0], q.c)?;
-            let mut poly = BbPoly::from_cartesian(tet, &qp, 3)?;
+            // The family of Theorem 4.2: Q + (f − Q(apex)) τ_apex².
             let lift = f[side] - q.value(apexes[side]);
-            // τ_apex² in degree 3: 1/3 on the layer λ_apex = 2, 1 at the apex.
-            for (l, _) in multi_index::iter::<4>(3).map(|l| (l, ())) {
-                let add = match l[3] {
-                    2 => lift / 3.0,
-                    3 => lift,
-                    _ => 0.0,
-                };
-                if add != 0.0 {
-                    poly.set(l, poly.coeff(l) + add);
-                }
-            }
+            let poly = BbPoly::from_cartesian(tet, &qp, 3)?.add_poly(&apex_square().scale(lift));
             for (r, c) in poly.coeffs().iter().enumerate() {
                 target[ti * 20 + r] = *c;
             }

@@ -1,8 +1,8 @@
 //! The whole C1 function F over the simplicial hull of a mesh, and its free parameters.
 
+use crate::geometry::apex_square;
 use crate::sheet::{face_bound, lifted_b_min};
 use crate::{ApatchError, EdgeCubic, EdgeNeighbour, FaceCubic, Quadric, SplitFace, VertexData};
-use algesurf_bb::BbPoly;
 use algesurf_hull::{Convexity, HullOptions, Side, SimplicialHull};
 use algesurf_mesh::TriMesh;
 use glam::DVec3;
@@ -120,19 +120,6 @@ pub struct ApatchSurface {
     edges: Vec<[Option<EdgeCubic>; 2]>,
     parameters: Vec<FreeParameter>,
     adjusted_normals: Vec<u32>,
-}
-
-/// `τ_apex²` as a cubic on a tetrahedron with the apex last: 1/3 on the layer λ_3 = 2, 1 at the
-/// apex. Raising a face side's apex value by δ adds exactly δ·τ_apex² to its pieces: for a convex
-/// face through (4.14); for a split face because τ_apex² meets every hard constraint (zero value
-/// and gradient on the face plane, C1 everywhere) with 1 at the apex, so the constrained
-/// least-squares solution moves by exactly that.
-fn apex_square() -> BbPoly<f64, 4> {
-    BbPoly::from_fn(3, |l| match l[3] {
-        2 => 1.0 / 3.0,
-        3 => 1.0,
-        _ => 0.0,
-    })
 }
 
 /// Vertices of the face and of every face touching its vertices, with their gradients.

@@ -136,9 +136,7 @@ impl ApatchSurface {
                     // backwards along the same line, towards 2q − apex. Along that ray the
                     // polynomial part restricts as usual and the rational term scales as
                     // (1 + s)³, whose Bernstein coefficients on [0, 1] are 2^k.
-                    let back = [alpha[0], alpha[1], alpha[2], 0.0].map(|x| 2.0 * x);
-                    let mut back = back;
-                    back[3] = -1.0;
+                    let back = [2.0 * alpha[0], 2.0 * alpha[1], 2.0 * alpha[2], -1.0];
                     let poly = cubic
                         .polynomial()
                         .restrict_to_segment([alpha[0], alpha[1], alpha[2], 0.0], back);
