@@ -23,6 +23,9 @@ pub use error::ApatchError;
 pub use face::{FaceCubic, VertexData};
 pub use quadric::Quadric;
 pub use split::{SplitFace, SplitSide};
-pub use surface::{ApatchSurface, FaceFunction, FreeParameter, FreeParameterRule, SurfaceOptions};
+pub use surface::{
+    ApatchSurface, ConstructionTimings, FaceFunction, FreeParameter, FreeParameterRule,
+    SurfaceOptions,
+};
 pub use tessellate::{PatchKind, Tessellation};
 pub use verify::{ContinuityReport, InterpolationReport, Owner, Piece, PieceFunction, Worst};

@@ -120,6 +120,16 @@ pub struct ApatchSurface {
     edges: Vec<[Option<EdgeCubic>; 2]>,
     parameters: Vec<FreeParameter>,
     adjusted_normals: Vec<u32>,
+    timings: ConstructionTimings,
+}
+
+/// Wall-clock time of the stages of [`ApatchSurface::new`].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ConstructionTimings {
+    /// Building the simplicial hull, refinement included (§3).
+    pub hull: std::time::Duration,
+    /// Building F and choosing the free parameters (§4).
+    pub function: std::time::Duration,
 }
 
 /// Vertices of the face and of every face touching its vertices, with their gradients.
@@ -171,7 +181,9 @@ impl ApatchSurface {
         } else {
             (normals.to_vec(), Vec::new())
         };
+        let start = std::time::Instant::now();
         let hull = SimplicialHull::from_mesh(mesh, &normals, &options.hull)?;
+        let hull_time = start.elapsed();
         // Refinement may condition more normals (input vertices keep their ids in the hull's
         // mesh, so the two lists share one numbering).
         let mut adjusted_normals = adjusted_normals;
@@ -196,15 +208,6 @@ impl ApatchSurface {
         // increment of the two faces' apex values; raise each face side by the largest
         // increment its edges need (raising only helps every other ray, Lemma 2.3).
         let raise = edge_increments(&hull, &faces, &edges, options)?;
-        if raise.is_empty() {
-            return Ok(ApatchSurface {
-                hull,
-                faces,
-                edges,
-                parameters,
-                adjusted_normals,
-            });
-        }
         let sq = apex_square();
         for (&(f, side), &delta) in &raise {
             let sign = if side == Side::Positive { 1.0 } else { -1.0 };
@@ -226,14 +229,29 @@ impl ApatchSurface {
                 p.relative_margin = (p.value - p.bound).abs() / p.scale;
             }
         }
-        let edges = build_edges(&hull, &faces)?;
+        // The edge cubics depend on the raised faces: rebuild them if any face changed.
+        let edges = if raise.is_empty() {
+            edges
+        } else {
+            build_edges(&hull, &faces)?
+        };
+        let timings = ConstructionTimings {
+            hull: hull_time,
+            function: start.elapsed().saturating_sub(hull_time),
+        };
         Ok(ApatchSurface {
             hull,
             faces,
             edges,
             parameters,
             adjusted_normals,
+            timings,
         })
+    }
+
+    /// How long the stages of construction took.
+    pub fn timings(&self) -> ConstructionTimings {
+        self.timings
     }
 
     /// Vertices whose normals were changed so the hull could use them (see

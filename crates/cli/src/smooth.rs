@@ -13,9 +13,9 @@ use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
 use algesurf_apatch::{
-    ApatchSurface, FaceFunction, FreeParameterRule, PatchKind, SurfaceOptions, Tessellation,
+    ApatchError, ApatchSurface, FaceFunction, FreeParameterRule, PatchKind, SurfaceOptions,
+    Tessellation,
 };
-use algesurf_hull::SimplicialHull;
 use algesurf_io::{PATCH_ID, WriteOptions};
 use algesurf_mesh::{
     NormalMethod, PolygonMesh, Property, PropertyValues, RepairOptions, RepairReport, TriMesh,
@@ -441,34 +441,32 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
         free_parameters: args.free_parameters.rule(),
         ..SurfaceOptions::default()
     };
-    // The hull alone, for the stage split (ApatchSurface::new builds it again).
-    let (hull, dt) = stage("building the simplicial hull", progress, || {
-        SimplicialHull::from_mesh(&tri, &normals, &options.hull)
-    });
-    t.hull = dt;
     // Ids in hull and surface errors are those of the repaired mesh.
     let ids_note = if repair_json["changed"] == true {
         " (vertex and face ids are those after repair; `algesurf info` lists the repairs)"
     } else {
         ""
     };
-    let hull =
-        hull.map_err(|e| format!("{source}: cannot build the simplicial hull: {e}{ids_note}"))?;
-    let refinements = hull.refinements().len();
-    let rounds = hull
+    let (surface, dt) = stage("building the hull and the surface", progress, || {
+        ApatchSurface::new(&tri, &normals, &options)
+    });
+    t.construction = dt;
+    let surface = surface.map_err(|e| match e {
+        ApatchError::Hull(e) => {
+            format!("{source}: cannot build the simplicial hull: {e}{ids_note}")
+        }
+        e => format!("{source}: cannot build the surface: {e}{ids_note}"),
+    })?;
+    t.hull = surface.timings().hull.as_secs_f64();
+    t.function = surface.timings().function.as_secs_f64();
+    let refinements = surface.hull().refinements().len();
+    let rounds = surface
+        .hull()
         .refinements()
         .iter()
         .map(|r| r.round + 1)
         .max()
         .unwrap_or(0);
-    drop(hull);
-    let (surface, dt) = stage("building the surface", progress, || {
-        ApatchSurface::new(&tri, &normals, &options)
-    });
-    t.construction = dt;
-    t.function = (t.construction - t.hull).max(0.0);
-    let surface =
-        surface.map_err(|e| format!("{source}: cannot build the surface: {e}{ids_note}"))?;
 
     let (tess, dt) = stage("tessellating", progress, || surface.tessellate(n, m));
     t.tessellation = dt;
