@@ -11,6 +11,7 @@
 //! | [`io`] | `algesurf-io` | OBJ, PLY, STL, OFF, glTF/GLB readers and writers |
 //! | [`hull`] | `algesurf-hull` | the outer simplicial hull of a mesh with normals (A-patches §3) |
 //! | [`apatch`] | `algesurf-apatch` | C1 rational A-patch surfaces over the hull, and their tessellation |
+//! | [`inspect`] | `algesurf-inspect` | PNG rendering and the continuity/interpolation check battery |
 //!
 //! ```
 //! use algesurf::bb::{BbPoly, Tetrahedron};
@@ -27,6 +28,7 @@
 #![warn(missing_docs)]
 
 pub use algesurf_apatch as apatch;
+pub use algesurf_inspect as inspect;
 pub use algesurf_bb as bb;
 pub use algesurf_hull as hull;
 pub use algesurf_io as io;

@@ -1,0 +1,1 @@
+//! The check battery (placeholder module: filled by the check work).

@@ -1,0 +1,1 @@
+//! The CPU renderer (placeholder module: filled by the render work).
