@@ -8,9 +8,12 @@
 //! each other (face normals that fit in no hemisphere: e.g. the bunny's sliver face 3029 is
 //! turned 125° against its neighbours). §3 of Xu–Huang–Bajaj 2001 needs every vertex normal on
 //! the positive side of each incident face, which no normal can satisfy there, and local
-//! refinement does not unfold them. Handling folds (a local fallback patch or an unfolding
-//! repair) is open work; when it lands, these meshes move to the smoothing list and this test
-//! catches any that still fail.
+//! refinement does not unfold them. The repair's flip of folded caps
+//! (`RepairOptions::flip_folded_caps`) removes the bunny's sliver caps, after which its hull
+//! gets through two rounds of refinement before a Butterfly point folds a vertex; the cow's
+//! and Suzanne's folds are fins and creases no edge flip removes. Handling folds in general
+//! (a local fallback patch or an unfolding repair) is open work; when it lands, these meshes
+//! move to the smoothing list and this test catches any that still fail.
 
 use algesurf_apatch::{ApatchSurface, SurfaceOptions, Tessellation};
 use algesurf_mesh::{NormalMethod, RepairOptions, TriMesh, TriangleBvh, repair, vertex_normals};

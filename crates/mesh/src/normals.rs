@@ -210,20 +210,20 @@ pub fn condition_vertex_normals(
     changed
 }
 
-fn unit_face_normals(mesh: &TriMesh) -> Vec<DVec3> {
-    // `face_normal` is area-weighted; the cone test needs unit normals.
-    (0..mesh.face_count())
-        .map(|f| mesh.face_normal(f).normalize_or_zero())
-        .collect()
-}
-
-fn conditioned(
-    mesh: &TriMesh,
-    face_normals: &[DVec3],
-    v: u32,
-    normal: DVec3,
-    min_cos: f64,
-) -> Option<DVec3> {
+/// The axis of the cone of vertex `v`'s incident unit face normals: the unit direction `m`
+/// that maximises `min_f m·n_f`, with that minimum. `None` for an isolated vertex or one whose
+/// faces are all degenerate (zero normals).
+///
+/// §3 of Xu–Huang–Bajaj 2001 needs a vertex normal with `n_f·n_v > 0` for every incident
+/// face `f`; one exists exactly when the returned minimum is positive (the faces' normals fit
+/// in an open hemisphere). `face_normals` are the mesh's unit face normals (zero for
+/// degenerate faces, which are ignored).
+///
+/// Method: start from the normalised sum of the face normals and take projected subgradient
+/// steps towards the worst face, halving the step whenever it does not improve the minimum.
+/// `min_f m·n_f` is concave on the hemisphere around the optimum, so the steps converge; 200
+/// of them shrink the step below `2⁻¹⁰⁰`, far below rounding.
+pub fn face_cone_axis(mesh: &TriMesh, face_normals: &[DVec3], v: u32) -> Option<(DVec3, f64)> {
     let fn_: Vec<DVec3> = mesh
         .topology()
         .vertex_faces(v)
@@ -233,15 +233,10 @@ fn conditioned(
     if fn_.is_empty() {
         return None;
     }
-    let n0 = normal.normalize_or_zero();
     let worst = |n: DVec3| fn_.iter().map(|f| f.dot(n)).fold(f64::INFINITY, f64::min);
-    if worst(n0) >= min_cos {
-        return None;
-    }
-    // Maximise min_f n·n_f: subgradient steps towards the worst face, halving on failure.
     let mut m = fn_.iter().copied().sum::<DVec3>().normalize_or_zero();
     if m == DVec3::ZERO {
-        m = n0;
+        m = fn_[0];
     }
     let mut step = 0.5;
     for _ in 0..200 {
@@ -257,6 +252,37 @@ fn conditioned(
             step *= 0.5;
         }
     }
+    Some((m, worst(m)))
+}
+
+/// The unit face normals of `mesh` (zero for degenerate faces): [`TriMesh::face_normal`] is
+/// area-weighted, and cone tests need unit normals.
+pub fn unit_face_normals(mesh: &TriMesh) -> Vec<DVec3> {
+    (0..mesh.face_count())
+        .map(|f| mesh.face_normal(f).normalize_or_zero())
+        .collect()
+}
+
+fn conditioned(
+    mesh: &TriMesh,
+    face_normals: &[DVec3],
+    v: u32,
+    normal: DVec3,
+    min_cos: f64,
+) -> Option<DVec3> {
+    let n0 = normal.normalize_or_zero();
+    let worst = |n: DVec3| {
+        mesh.topology()
+            .vertex_faces(v)
+            .map(|f| face_normals[f as usize])
+            .filter(|n| n.length_squared() > 0.0)
+            .map(|f| f.dot(n))
+            .fold(f64::INFINITY, f64::min)
+    };
+    if worst(n0) >= min_cos {
+        return None;
+    }
+    let (m, _) = face_cone_axis(mesh, face_normals, v)?;
     // Least blend from n0 towards m that reaches min_cos (bisection on s).
     let blend = |s: f64| (n0 + (m - n0) * s).normalize_or_zero();
     let new = if worst(m) < min_cos {

@@ -52,6 +52,12 @@ pub struct RepairOptions {
     /// manifold components; open components keep the orientation of the majority of their
     /// faces. Default `true`.
     pub orient: bool,
+    /// After orientation, flip the longest edge of every *folded cap*: a triangle with an
+    /// angle above 150° whose normal points against its neighbour across that edge (a corner
+    /// pushed through the opposite edge, common in scans). Vertices stay; only the two faces'
+    /// connectivity changes, and only when both new triangles face the neighbour's side.
+    /// Default `true`.
+    pub flip_folded_caps: bool,
 }
 
 impl Default for RepairOptions {
@@ -65,6 +71,7 @@ impl Default for RepairOptions {
             drop_unused_vertices: true,
             split_non_manifold_vertices: true,
             orient: true,
+            flip_folded_caps: true,
         }
     }
 }
@@ -96,6 +103,9 @@ pub struct RepairReport {
     pub split_vertices: Vec<(u32, u32)>,
     /// Faces whose orientation was reversed.
     pub flipped_faces: Vec<u32>,
+    /// Longest edges of folded caps flipped by [`RepairOptions::flip_folded_caps`] (input
+    /// vertex ids, after welding).
+    pub flipped_cap_edges: Vec<[u32; 2]>,
     /// Number of components that cannot be oriented consistently (Möbius-like); their faces
     /// are consistent along a spanning tree only.
     pub non_orientable_components: usize,
@@ -119,6 +129,7 @@ impl RepairReport {
             && self.detached_non_manifold_edges.is_empty()
             && self.split_vertices.is_empty()
             && self.flipped_faces.is_empty()
+            && self.flipped_cap_edges.is_empty()
             && self.dropped_unused_vertices.is_empty())
     }
 
@@ -197,6 +208,13 @@ impl fmt::Display for RepairReport {
                 .map(|(v, n)| format!("{v} into {n}")),
         )?;
         ids(f, "flipped faces", &self.flipped_faces)?;
+        list(
+            f,
+            "flipped edges of folded caps",
+            self.flipped_cap_edges
+                .iter()
+                .map(|[a, b]| format!("({a}, {b})")),
+        )?;
         ids(f, "dropped unused vertices", &self.dropped_unused_vertices)?;
         if self.non_orientable_components > 0 {
             writeln!(
@@ -544,6 +562,13 @@ pub fn repair(mesh: &PolygonMesh, options: &RepairOptions) -> Result<Repaired, M
             }
         }
         report.flipped_faces = dedup_sorted(flipped);
+    }
+    // 8b. Folded caps (after orientation: "folded" compares orientations).
+    if options.flip_folded_caps {
+        report.flipped_cap_edges = crate::caps::flip_folded_caps(&mut faces, pos)
+            .into_iter()
+            .map(|e| e.map(|v| src[v as usize]))
+            .collect();
     }
     // 9. Vertices: drop welded-away ones always, unused ones on request; split copies (all
     // used) come after the input's vertices.
