@@ -10,6 +10,7 @@ pub mod edge;
 pub mod error;
 pub mod face;
 mod geometry;
+pub mod gradient_scale;
 pub mod quadric;
 pub mod rational;
 pub mod sheet;
