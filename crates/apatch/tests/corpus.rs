@@ -4,17 +4,19 @@
 //! Prints a table per mesh (faces, patches, seconds, Hausdorff distance to the input, least
 //! free-parameter margin).
 //!
-//! `FOLDED`: cow, Stanford bunny and Suzanne contain vertices whose incident faces fold back on
-//! each other (face normals that fit in no hemisphere: e.g. the bunny's sliver face 3029 is
-//! turned 125° against its neighbours). §3 of Xu–Huang–Bajaj 2001 needs every vertex normal on
-//! the positive side of each incident face, which no normal can satisfy there, and local
-//! refinement does not unfold them. The repair's flip of folded caps
-//! (`RepairOptions::flip_folded_caps`) removes the bunny's sliver caps, after which its hull
-//! gets through two rounds of refinement before a Butterfly point folds a vertex; the cow's
-//! and Suzanne's folds are fins and creases no edge flip removes. Handling folds in general
-//! (a local fallback patch or an unfolding repair) is open work; when it lands, these meshes
-//! move to the smoothing list and this test catches any that still fail.
-
+//! `FOLDED`: cow, Stanford bunny and Suzanne contain folds: vertices whose incident faces'
+//! normals fit in no hemisphere (the bunny's sliver caps turned 125° against their
+//! neighbours; the rims of the cow's ears, whose two sides cross). §3 of Xu–Huang–Bajaj 2001
+//! needs every vertex normal on the positive side of each incident face. The repair now flips
+//! folded caps and moves folded vertices the least distance that opens them
+//! (`RepairOptions::{flip_folded_caps, unfold_vertices}`), so all three build their initial
+//! hull; but the local Butterfly refinement that separates intersecting tetrahedra overshoots
+//! next to their sharp features and folds a vertex again (cow and bunny after three rounds,
+//! Suzanne after one), which stops the build with an error naming the face and the vertex.
+//! Pulling the Butterfly point towards the edge midpoint where it would fold was tried: it
+//! then runs out of rounds with tetrahedra of the same input face still intersecting. Handling
+//! that is open work; when it lands, these meshes move to the smoothing list and this test
+//! catches any that still fail.
 use algesurf_apatch::{ApatchSurface, SurfaceOptions, Tessellation};
 use algesurf_mesh::{NormalMethod, RepairOptions, TriMesh, TriangleBvh, repair, vertex_normals};
 use std::collections::HashMap;

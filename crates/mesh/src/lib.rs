@@ -55,11 +55,11 @@ pub mod repair;
 pub mod validate;
 pub use repair::{RepairOptions, RepairReport, Repaired, repair};
 pub use validate::{Finding, ValidationOptions, ValidationReport, validate, validate_with};
-mod caps;
+mod folds;
 pub mod normals;
 pub use normals::{
     DEFAULT_MIN_NORMAL_COSINE, NormalMethod, condition_normals, condition_vertex_normals,
-    face_cone_axis, loop_limit_normal, unit_face_normals, vertex_normals,
+    cone_axis, face_cone_axis, loop_limit_normal, unit_face_normals, vertex_normals,
 };
 pub mod shapes;
 pub mod subdivision;

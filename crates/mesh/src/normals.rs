@@ -228,6 +228,15 @@ pub fn face_cone_axis(mesh: &TriMesh, face_normals: &[DVec3], v: u32) -> Option<
         .topology()
         .vertex_faces(v)
         .map(|f| face_normals[f as usize])
+        .collect();
+    cone_axis(&fn_)
+}
+
+/// [`face_cone_axis`] for a list of unit normals (zero vectors are ignored).
+pub fn cone_axis(normals: &[DVec3]) -> Option<(DVec3, f64)> {
+    let fn_: Vec<DVec3> = normals
+        .iter()
+        .copied()
         .filter(|n| n.length_squared() > 0.0)
         .collect();
     if fn_.is_empty() {

@@ -58,6 +58,14 @@ pub struct RepairOptions {
     /// connectivity changes, and only when both new triangles face the neighbour's side.
     /// Default `true`.
     pub flip_folded_caps: bool,
+    /// Then move every *folded* vertex — one whose triangles' normals fit in no cone of
+    /// half-angle `acos(DEFAULT_MIN_NORMAL_COSINE)` = 84°, so no vertex normal is well on the
+    /// positive side of all its faces (the rim of a thin flap whose sides cross, a crease
+    /// turned back on itself) — the least distance towards its neighbours' centroid that
+    /// opens its and its neighbours' faces to that cone. Smooth surfaces through the mesh
+    /// (A-patches, §3 of Xu–Huang–Bajaj 2001) need this; it changes the data, so each move is
+    /// reported with its distance. Default `true`.
+    pub unfold_vertices: bool,
 }
 
 impl Default for RepairOptions {
@@ -72,6 +80,7 @@ impl Default for RepairOptions {
             split_non_manifold_vertices: true,
             orient: true,
             flip_folded_caps: true,
+            unfold_vertices: true,
         }
     }
 }
@@ -106,6 +115,9 @@ pub struct RepairReport {
     /// Longest edges of folded caps flipped by [`RepairOptions::flip_folded_caps`] (input
     /// vertex ids, after welding).
     pub flipped_cap_edges: Vec<[u32; 2]>,
+    /// Folded vertices moved by [`RepairOptions::unfold_vertices`]: `(output vertex, distance
+    /// moved)`.
+    pub moved_vertices: Vec<(u32, f64)>,
     /// Number of components that cannot be oriented consistently (Möbius-like); their faces
     /// are consistent along a spanning tree only.
     pub non_orientable_components: usize,
@@ -130,6 +142,7 @@ impl RepairReport {
             && self.split_vertices.is_empty()
             && self.flipped_faces.is_empty()
             && self.flipped_cap_edges.is_empty()
+            && self.moved_vertices.is_empty()
             && self.dropped_unused_vertices.is_empty())
     }
 
@@ -214,6 +227,13 @@ impl fmt::Display for RepairReport {
             self.flipped_cap_edges
                 .iter()
                 .map(|[a, b]| format!("({a}, {b})")),
+        )?;
+        list(
+            f,
+            "moved folded vertices (output id by distance)",
+            self.moved_vertices
+                .iter()
+                .map(|(v, d)| format!("{v} by {d:.3e}")),
         )?;
         ids(f, "dropped unused vertices", &self.dropped_unused_vertices)?;
         if self.non_orientable_components > 0 {
@@ -565,11 +585,18 @@ pub fn repair(mesh: &PolygonMesh, options: &RepairOptions) -> Result<Repaired, M
     }
     // 8b. Folded caps (after orientation: "folded" compares orientations).
     if options.flip_folded_caps {
-        report.flipped_cap_edges = crate::caps::flip_folded_caps(&mut faces, pos)
+        report.flipped_cap_edges = crate::folds::flip_folded_caps(&mut faces, pos)
             .into_iter()
             .map(|e| e.map(|v| src[v as usize]))
             .collect();
     }
+    // 8c. Folded vertices.
+    let mut pts: Vec<DVec3> = (0..nv_split as u32).map(pos).collect();
+    let moved = if options.unfold_vertices {
+        crate::folds::unfold_vertices(&faces, &mut pts, crate::DEFAULT_MIN_NORMAL_COSINE)
+    } else {
+        Vec::new()
+    };
     // 9. Vertices: drop welded-away ones always, unused ones on request; split copies (all
     // used) come after the input's vertices.
     let mut used = vec![false; nv_split];
@@ -590,10 +617,13 @@ pub fn repair(mesh: &PolygonMesh, options: &RepairOptions) -> Result<Repaired, M
         }
     }
     let mut out = PolygonMesh::new();
-    out.positions = report
-        .vertex_map
-        .iter()
-        .map(|&v| mesh.positions[v as usize])
+    out.positions = (0..nv_split)
+        .filter(|&v| new_id[v] != u32::MAX)
+        .map(|v| pts[v])
+        .collect();
+    report.moved_vertices = moved
+        .into_iter()
+        .map(|(v, d)| (new_id[v as usize], d))
         .collect();
     for (f, face) in &faces {
         let mapped: Vec<u32> = face.iter().map(|&v| new_id[v as usize]).collect();
