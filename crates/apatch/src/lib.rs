@@ -8,6 +8,7 @@
 
 pub mod edge;
 pub mod error;
+pub mod examples;
 pub mod face;
 mod geometry;
 pub mod gradient_scale;
