@@ -362,3 +362,42 @@ fn bad_options_are_errors_not_panics() {
     assert_eq!(parse_size("640x480").unwrap(), (640, 480));
     assert!(Mode::parse("glossy").is_err() && View::parse("back").is_err());
 }
+
+#[test]
+fn highlighted_triangles_and_several_meshes_compose_in_one_frame() {
+    // Two unit squares side by side (x ∈ [−2, 0] and [0, 2]); the right one's first
+    // triangle (lower right half) highlighted; flat colours, head-on.
+    let square = |dx: f64, colour: Rgb, highlighted: Vec<u32>| RenderMesh {
+        positions: [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
+            .map(|(x, y)| DVec3::new(x + dx, y, 0.0))
+            .to_vec(),
+        triangles: vec![[0, 1, 2], [0, 2, 3]],
+        colour: Some(colour),
+        highlighted,
+        ..RenderMesh::default()
+    };
+    let left = square(-1.0, [0.2, 0.6, 0.2], vec![]);
+    let right = square(1.0, [0.2, 0.2, 0.6], vec![0]);
+    let mut o = head_on(Mode::Shaded);
+    o.flat = true;
+    if let View::Camera(c) = &mut o.views[0] {
+        c.projection = Projection::Orthographic { half_height: 2.5 };
+    }
+    let img = render_scene(&[&left, &right], &[], &o).unwrap();
+    let scale = f64::from(SIZE) / 2.0 / 2.5;
+    let at = |x: f64, y: f64| {
+        let p = img.pixel((100.0 + x * scale) as u32, (100.0 - y * scale) as u32);
+        [p[0], p[1], p[2]]
+    };
+    assert_eq!(at(-1.0, 0.0), rgb_bytes(left.colour.unwrap()));
+    assert_eq!(
+        at(0.5, 0.5),
+        rgb_bytes(right.colour.unwrap()),
+        "upper-left half of the right square"
+    );
+    assert_eq!(
+        at(1.5, -0.5),
+        rgb_bytes(o.highlight_colour),
+        "its highlighted lower-right half"
+    );
+}
