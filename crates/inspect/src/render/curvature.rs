@@ -10,6 +10,11 @@ use glam::DVec3;
 /// with outward normals has `H = 1/r`). Boundary vertices get the value of the triangles they
 /// have (biased); degenerate triangles (zero area) contribute nothing; a vertex with no area
 /// gets 0.
+///
+/// The estimate is only as good as the triangles: on the A-patch tessellation of the smoothed
+/// icosahedron (the exact unit sphere, but with triangles down to 4.7° angles at the patch
+/// corners) it reads 0.90 to 1.16 instead of 1, in spots around the corners; on a regular
+/// level-4 icosphere it is within 5 % (tested below).
 pub fn mean_curvature(positions: &[DVec3], triangles: &[[u32; 3]], normals: &[DVec3]) -> Vec<f64> {
     let n = positions.len();
     let mut lap = vec![DVec3::ZERO; n];
