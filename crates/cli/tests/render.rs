@@ -132,3 +132,31 @@ fn render_errors_are_clear_and_leave_no_output() {
         text(&out)
     );
 }
+
+#[test]
+fn render_writes_the_same_bytes_on_one_thread_and_on_two() {
+    let dir = TempDir::new("threads");
+    let torus = write_torus(dir.path());
+    let mut files = Vec::new();
+    for threads in ["1", "2"] {
+        let name = format!("t{threads}.png");
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_algesurf"))
+            .current_dir(dir.path())
+            .env("RAYON_NUM_THREADS", threads)
+            .args(["render", torus.to_str().unwrap(), "-o", &name])
+            .args([
+                "--mode",
+                "zebra",
+                "--wire",
+                "--view",
+                "front,iso",
+                "--size",
+                "150x100",
+            ])
+            .output()
+            .expect("run algesurf");
+        assert!(out.status.success(), "{}", text(&out));
+        files.push(std::fs::read(dir.path().join(name)).unwrap());
+    }
+    assert_eq!(files[0], files[1]);
+}
