@@ -3,6 +3,7 @@
 
 mod convert;
 mod info;
+mod render;
 mod smooth;
 
 use clap::{Parser, Subcommand};
@@ -27,6 +28,9 @@ enum Command {
     /// it and write it (with no INPUT: a built-in icosahedron, which becomes the unit sphere,
     /// to smooth.glb).
     Smooth(smooth::SmoothArgs),
+    /// Render a mesh (or with --smooth its A-patch surface) to PNG: shaded, isophotes, zebra,
+    /// patches or curvature, from preset views or an explicit camera.
+    Render(render::RenderArgs),
 }
 
 /// Reads a mesh for a command; a file with neither vertices nor faces is an error (the
@@ -51,6 +55,7 @@ fn main() -> ExitCode {
         Command::Info(a) => info::run(a).map(|()| ExitCode::SUCCESS),
         Command::Convert(a) => convert::run(a).map(|()| ExitCode::SUCCESS),
         Command::Smooth(a) => smooth::run(a),
+        Command::Render(a) => render::run(a).map(|()| ExitCode::SUCCESS),
     };
     match result {
         Ok(code) => code,

@@ -94,6 +94,25 @@ impl FreeParametersArg {
     }
 }
 
+/// The options that build and tessellate the surface (shared by `smooth` and `render
+/// --smooth`).
+#[derive(clap::Args, Debug, Clone)]
+pub struct SurfaceArgs {
+    /// Points per patch edge minus one: face patches are triangular grids of this
+    /// resolution, edge patches have this many steps along the mesh edge.
+    #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub resolution: u32,
+    /// Steps across each edge patch (default: the resolution).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub across: Option<u32>,
+    /// Vertex normals (the gradients of the surface's function at the vertices).
+    #[arg(long, value_enum, default_value_t = SmoothNormals::Loop)]
+    pub normals: SmoothNormals,
+    /// Rule for the free parameters (the function's value at the tetrahedron apexes).
+    #[arg(long, value_enum, default_value_t = FreeParametersArg::Quadric)]
+    pub free_parameters: FreeParametersArg,
+}
+
 /// Arguments of `algesurf smooth`.
 #[derive(clap::Args, Debug, Clone)]
 #[command(after_help = "\
@@ -112,19 +131,9 @@ pub struct SmoothArgs {
     /// Required with INPUT; default `smooth.glb` without.
     #[arg(short, long)]
     pub output: Option<PathBuf>,
-    /// Points per patch edge minus one: face patches are triangular grids of this
-    /// resolution, edge patches have this many steps along the mesh edge.
-    #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u32).range(1..=1024))]
-    pub resolution: u32,
-    /// Steps across each edge patch (default: the resolution).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
-    pub across: Option<u32>,
-    /// Vertex normals (the gradients of the surface's function at the vertices).
-    #[arg(long, value_enum, default_value_t = SmoothNormals::Loop)]
-    pub normals: SmoothNormals,
-    /// Rule for the free parameters (the function's value at the tetrahedron apexes).
-    #[arg(long, value_enum, default_value_t = FreeParametersArg::Quadric)]
-    pub free_parameters: FreeParametersArg,
+    /// Surface construction and tessellation.
+    #[command(flatten)]
+    pub surface: SurfaceArgs,
     /// Also write the summary as JSON to this file.
     #[arg(long)]
     pub report: Option<PathBuf>,
@@ -177,7 +186,7 @@ fn stage<T>(name: &str, progress: bool, f: impl FnOnce() -> T) -> (T, f64) {
 }
 
 /// `path` made absolute and resolved as far as it exists (for comparing input and output).
-fn resolved(path: &Path) -> PathBuf {
+pub(crate) fn resolved(path: &Path) -> PathBuf {
     if let Ok(p) = path.canonicalize() {
         return p;
     }
@@ -326,62 +335,48 @@ fn write_atomic(path: &Path, text: &str) -> Result<(), BoxError> {
     Ok(())
 }
 
-/// Smooths the input (or the built-in icosahedron) and writes the surface.
-///
-/// Returns the exit code: success, or [`EXIT_SURFACE_DEFECTS`] when rays missed or had
-/// multiple roots (the output is written all the same).
+/// What [`build_surface`] makes: the (repaired) input triangle mesh, the surface, its
+/// tessellation, what repair did and the stage timings so far.
+pub struct Smoothed {
+    /// The triangle mesh the surface interpolates (after repair).
+    pub tri: TriMesh,
+    /// The A-patch surface.
+    pub surface: ApatchSurface,
+    /// Its tessellation.
+    pub tess: Tessellation,
+    /// One line naming the repairs.
+    pub repair_text: String,
+    /// The repairs as JSON (for the report).
+    pub repair_json: serde_json::Value,
+    timings: Timings,
+}
+
+impl SurfaceArgs {
+    /// Steps across each edge patch.
+    fn across_or_resolution(&self) -> usize {
+        self.across.unwrap_or(self.resolution) as usize
+    }
+}
+
+/// Reads and repairs `input` (or takes the built-in icosahedron), computes the vertex
+/// normals, builds the surface and tessellates it: the stages that `smooth` and `render
+/// --smooth` share.
 ///
 /// # Errors
-/// Unreadable input, a mesh the surface cannot be built on (the message names the file and
-/// the stage), an output or report path equal to the input, or a write failure.
-pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
-    let progress = std::io::stderr().is_terminal();
-    let total_start = Instant::now();
-    let source = args
-        .input
-        .as_ref()
-        .map_or_else(|| DEFAULT_MESH.to_string(), |p| p.display().to_string());
-    let output = match (&args.input, &args.output) {
-        (_, Some(o)) => o.clone(),
-        (None, None) => PathBuf::from("smooth.glb"),
-        (Some(_), None) => {
-            return Err("smooth: -o OUTPUT is required when an INPUT is given".into());
-        }
-    };
-    if let Some(input) = &args.input {
-        let inp = resolved(input);
-        if resolved(&output) == inp {
-            return Err(format!(
-                "{}: refusing to overwrite the input with the output",
-                input.display()
-            )
-            .into());
-        }
-        if args.report.as_deref().is_some_and(|r| resolved(r) == inp) {
-            return Err(format!(
-                "{}: refusing to overwrite the input with the report",
-                input.display()
-            )
-            .into());
-        }
-    }
-    if args
-        .report
-        .as_deref()
-        .is_some_and(|r| resolved(r) == resolved(&output))
-    {
-        return Err(format!(
-            "{}: the report and the output are the same file",
-            output.display()
-        )
-        .into());
-    }
+/// Unreadable input, or a mesh the surface cannot be built on (the message names the file
+/// and the stage).
+pub fn build_surface(
+    input: Option<&Path>,
+    args: &SurfaceArgs,
+    progress: bool,
+) -> Result<Smoothed, BoxError> {
+    let source = input.map_or_else(|| DEFAULT_MESH.to_string(), |p| p.display().to_string());
     let n = args.resolution as usize;
-    let m = args.across.unwrap_or(args.resolution) as usize;
+    let m = args.across_or_resolution();
     let mut t = Timings::default();
 
     // Read and repair (the built-in mesh needs neither).
-    let (tri, repair_text, repair_json) = match &args.input {
+    let (tri, repair_text, repair_json) = match input {
         Some(path) => {
             let (mesh, dt) = stage("reading", progress, || crate::read_mesh(path));
             t.read = dt;
@@ -459,6 +454,83 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
     })?;
     t.hull = surface.timings().hull.as_secs_f64();
     t.function = surface.timings().function.as_secs_f64();
+    let (tess, dt) = stage("tessellating", progress, || surface.tessellate(n, m));
+    t.tessellation = dt;
+    let tess = tess.map_err(|e| format!("{source}: cannot tessellate: {e}"))?;
+
+    Ok(Smoothed {
+        tri,
+        surface,
+        tess,
+        repair_text,
+        repair_json,
+        timings: t,
+    })
+}
+
+/// Smooths the input (or the built-in icosahedron) and writes the surface.
+///
+/// Returns the exit code: success, or [`EXIT_SURFACE_DEFECTS`] when rays missed or had
+/// multiple roots (the output is written all the same).
+///
+/// # Errors
+/// Unreadable input, a mesh the surface cannot be built on (the message names the file and
+/// the stage), an output or report path equal to the input, or a write failure.
+pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
+    let progress = std::io::stderr().is_terminal();
+    let total_start = Instant::now();
+    let source = args
+        .input
+        .as_ref()
+        .map_or_else(|| DEFAULT_MESH.to_string(), |p| p.display().to_string());
+    let output = match (&args.input, &args.output) {
+        (_, Some(o)) => o.clone(),
+        (None, None) => PathBuf::from("smooth.glb"),
+        (Some(_), None) => {
+            return Err("smooth: -o OUTPUT is required when an INPUT is given".into());
+        }
+    };
+    if let Some(input) = &args.input {
+        let inp = resolved(input);
+        if resolved(&output) == inp {
+            return Err(format!(
+                "{}: refusing to overwrite the input with the output",
+                input.display()
+            )
+            .into());
+        }
+        if args.report.as_deref().is_some_and(|r| resolved(r) == inp) {
+            return Err(format!(
+                "{}: refusing to overwrite the input with the report",
+                input.display()
+            )
+            .into());
+        }
+    }
+    if args
+        .report
+        .as_deref()
+        .is_some_and(|r| resolved(r) == resolved(&output))
+    {
+        return Err(format!(
+            "{}: the report and the output are the same file",
+            output.display()
+        )
+        .into());
+    }
+    let Smoothed {
+        tri,
+        surface,
+        tess,
+        repair_text,
+        repair_json,
+        mut timings,
+    } = build_surface(args.input.as_deref(), &args.surface, progress)?;
+    let t = &mut timings;
+    let (n, m) = (
+        args.surface.resolution as usize,
+        args.surface.across_or_resolution(),
+    );
     let refinements = surface.hull().refinements().len();
     let rounds = surface
         .hull()
@@ -467,10 +539,6 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
         .map(|r| r.round + 1)
         .max()
         .unwrap_or(0);
-
-    let (tess, dt) = stage("tessellating", progress, || surface.tessellate(n, m));
-    t.tessellation = dt;
-    let tess = tess.map_err(|e| format!("{source}: cannot tessellate: {e}"))?;
 
     let ((deviation, diagonal), dt) = stage("checking", progress, || {
         max_deviation(&tri, &tess.positions)
@@ -512,8 +580,8 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
         "options": {
             "resolution": n,
             "across": m,
-            "normals": args.normals.name(),
-            "free_parameters": args.free_parameters.name(),
+            "normals": args.surface.normals.name(),
+            "free_parameters": args.surface.free_parameters.name(),
         },
         "input_mesh": {
             "vertices": tri.vertex_count(),

@@ -1,51 +1,13 @@
 //! End-to-end tests of `algesurf smooth`: the binary on the built-in mesh, on an icosphere with
 //! exact sphere normals, its JSON report, and its errors.
 
+mod common;
+
 use std::collections::HashMap;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
 use algesurf_io::PATCH_ID;
 use algesurf_mesh::{PolygonMesh, PropertyValues, shapes};
-
-/// A fresh, empty directory for one test, removed when dropped.
-struct TempDir(PathBuf);
-
-impl TempDir {
-    fn new(name: &str) -> TempDir {
-        let dir =
-            std::env::temp_dir().join(format!("algesurf-smooth-{name}-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).expect("create temp dir");
-        TempDir(dir)
-    }
-    fn path(&self) -> &Path {
-        &self.0
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
-fn algesurf(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_algesurf"))
-        .current_dir(dir)
-        .args(args)
-        .output()
-        .expect("run algesurf")
-}
-
-fn text(out: &Output) -> String {
-    format!(
-        "status {:?}\nstdout:\n{}\nstderr:\n{}",
-        out.status.code(),
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    )
-}
+use common::{TempDir, algesurf, text};
 
 /// Every undirected edge is used by exactly two triangles, once in each direction.
 fn assert_closed_manifold(mesh: &PolygonMesh) {

@@ -8,7 +8,12 @@ use crate::IoError;
 
 static COUNTER: AtomicU64 = AtomicU64::new(0);
 
-pub(crate) fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), IoError> {
+/// Writes `bytes` to `path` through a temporary file in the same directory (created
+/// exclusively, synced) and a rename over `path`, so that readers never see a partial file.
+///
+/// # Errors
+/// [`IoError::Io`] naming `path`; the temporary file is removed on failure.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), IoError> {
     let io_err = |source| IoError::Io {
         path: path.to_path_buf(),
         source,

@@ -1,1 +1,0 @@
-//! The CPU renderer (placeholder module: filled by the render work).
