@@ -18,6 +18,7 @@
 //! satisfies, so it is the target's: `(f + 2 q)/3` as in (4.14), keeping Lemma 2.3's
 //! `b t²` lifting for the single-sheet bound.
 
+use crate::cubic;
 use crate::geometry::{apex_square, exact_barycentric, foot};
 use crate::{ApatchError, Quadric, VertexData};
 use algesurf_bb::{BbPoly, PowerPoly, Tetrahedron, multi_index};
@@ -46,26 +47,11 @@ pub struct SplitFace {
 }
 
 /// Linear form of a coefficient of `poly_b` (on `b`) induced by `poly_a` (on `a`): weights
-/// `w_μ` with `coeff_B(λ) = Σ_μ w_μ x_A[μ]` = blossom of A at B's vertices.
+/// `w_μ` with `coeff_B(λ) = Σ_μ w_μ x_A[μ]` = blossom of A at B's vertices (Lemma 2.2).
 fn continuation_weights(a: &Tetrahedron, b: &Tetrahedron, lambda: [usize; 4]) -> [f64; 20] {
     let verts: [[f64; 4]; 4] = std::array::from_fn(|s| exact_barycentric(a, b.vertex(s)));
-    let mut args = Vec::with_capacity(3);
-    for (s, &l) in lambda.iter().enumerate() {
-        args.extend(std::iter::repeat_n(verts[s], l));
-    }
-    on_basis(|unit| unit.blossom(&args).expect("three arguments"))
-}
-
-/// A linear functional of cubics (blossom, directional derivative, …) evaluated on each of the
-/// 20 Bernstein basis polynomials: its weights on the coefficients, in storage order.
-fn on_basis(functional: impl Fn(&BbPoly<f64, 4>) -> f64) -> [f64; 20] {
-    let mut w = [0.0; 20];
-    for (r, mu) in multi_index::iter::<4>(3).enumerate() {
-        let mut unit = BbPoly::<f64, 4>::zero(3);
-        unit.set(mu, 1.0);
-        w[r] = functional(&unit);
-    }
-    w
+    let [x, y, z] = cubic::blossom_args(&verts, lambda);
+    cubic::blossom_weights(x, y, z)
 }
 
 struct System {
@@ -153,7 +139,8 @@ impl SplitFace {
                     apexes[side] - foot(apexes[side], p[b], p[cc]),
                 ] {
                     let dir = tets[ti].barycentric_direction(d);
-                    let weights = on_basis(|unit| unit.directional_derivative(m, &[dir]));
+                    // D_d F(m) = 3 b[d, m, m] (see `cubic`).
+                    let weights = cubic::blossom_weights(dir, m, m).map(|w| 3.0 * w);
                     let terms = weights.iter().enumerate().filter(|(_, w)| **w != 0.0);
                     sys.push(terms.map(|(r, w)| (ti * 20 + r, *w)).collect(), d.dot(g));
                 }

@@ -370,11 +370,13 @@ fn build_face(
                 let mut worst = f64::NEG_INFINITY;
                 // Rays from each sub-triangle [p_b p_c c] to this side's apex.
                 for a in 0..3 {
-                    let poly = &side.polys[a];
+                    let poly = crate::cubic::coeffs_of(&side.polys[a]);
                     worst = worst.max(face_bound(options.bound_level, |q| {
-                        let c =
-                            poly.restrict_to_segment([q[0], q[1], q[2], 0.0], [0.0, 0.0, 0.0, 1.0]);
-                        let c = [c.coeffs()[0], c.coeffs()[1], c.coeffs()[2], c.coeffs()[3]];
+                        let c = crate::cubic::segment(
+                            &poly,
+                            [q[0], q[1], q[2], 0.0],
+                            [0.0, 0.0, 0.0, 1.0],
+                        );
                         without_apex(c, values[s]).map(|x| sign * x)
                     }));
                 }

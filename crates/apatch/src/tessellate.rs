@@ -8,8 +8,10 @@
 //! appears twice. Patches are evaluated in parallel and numbered in a serial pass, so the
 //! output is the same for every run and thread count.
 
+use crate::cubic;
+use crate::geometry::gradient_from_partials;
 use crate::surface::FaceFunction;
-use crate::{ApatchError, ApatchSurface};
+use crate::{ApatchError, ApatchSurface, EdgeCubic};
 use algesurf_bb::roots::shooting_root;
 use algesurf_hull::Side;
 use glam::DVec3;
@@ -60,6 +62,11 @@ struct RayPoint {
     multiple: bool,
 }
 
+/// `(1 − t) a + t b`.
+fn lerp(a: [f64; 4], b: [f64; 4], t: f64) -> [f64; 4] {
+    std::array::from_fn(|i| (1.0 - t) * a[i] + t * b[i])
+}
+
 /// The smallest root of `sign · c` in [0, 1) and whether it is simple; `None` if it misses.
 fn root(c: [f64; 4], sign: f64) -> Option<(f64, bool)> {
     let c = c.map(|x| sign * x);
@@ -75,7 +82,9 @@ fn root(c: [f64; 4], sign: f64) -> Option<(f64, bool)> {
 
 /// Evaluates the ray from `q` to `apex` with shooting coefficients `c` (F along the ray) for
 /// the side `sign` (+1: F ≤ 0 at q, looking for F = 0 towards the apex where F > 0).
-fn shoot(q: DVec3, apex: DVec3, c: [f64; 4], sign: f64, grad: impl Fn(DVec3) -> DVec3) -> RayPoint {
+/// `grad(t)` is ∇F at the ray's point of parameter `t` (computed from the point's barycentric
+/// coordinates, which the caller knows exactly as a lerp of the ray's ends).
+fn shoot(q: DVec3, apex: DVec3, c: [f64; 4], sign: f64, grad: impl Fn(f64) -> DVec3) -> RayPoint {
     // |F(q)| within the rounding of its own evaluation (a few ε times the coefficients it is
     // combined from): the ray starts on the surface. Treating it as t = 0 keeps rays from a
     // mesh edge where F vanishes identical from every side.
@@ -83,7 +92,7 @@ fn shoot(q: DVec3, apex: DVec3, c: [f64; 4], sign: f64, grad: impl Fn(DVec3) -> 
     if c[0] == 0.0 || c[0].abs() <= 8.0 * f64::EPSILON * scale {
         return RayPoint {
             position: q,
-            normal: grad(q).normalize_or_zero(),
+            normal: grad(0.0).normalize_or_zero(),
             at_start: true,
             missed: false,
             multiple: false,
@@ -94,7 +103,7 @@ fn shoot(q: DVec3, apex: DVec3, c: [f64; 4], sign: f64, grad: impl Fn(DVec3) -> 
             let x = q + (apex - q) * t;
             RayPoint {
                 position: x,
-                normal: grad(x).normalize_or_zero(),
+                normal: grad(t).normalize_or_zero(),
                 at_start: t == 0.0,
                 missed: false,
                 multiple: !simple,
@@ -102,7 +111,7 @@ fn shoot(q: DVec3, apex: DVec3, c: [f64; 4], sign: f64, grad: impl Fn(DVec3) -> 
         }
         None => RayPoint {
             position: apex,
-            normal: grad(apex).normalize_or_zero(),
+            normal: grad(1.0).normalize_or_zero(),
             at_start: false,
             missed: true,
             multiple: false,
@@ -129,21 +138,22 @@ impl ApatchSurface {
                 let sign = if *side == Side::Positive { 1.0 } else { -1.0 };
                 let apex = cubic.tetrahedron().vertex(3);
                 let c = cubic.shooting_polynomial(alpha);
+                let a = [alpha[0], alpha[1], alpha[2], 0.0];
                 if sign * c[0] <= 0.0 {
-                    shoot(q, apex, c, sign, |x| cubic.value_gradient(x).1)
+                    let b = [0.0, 0.0, 0.0, 1.0];
+                    shoot(q, apex, c, sign, |t| cubic.gradient_at_tau(lerp(a, b, t)))
                 } else {
                     // (4.5): F(q) on the wrong side — the patch dips below the face; shoot
                     // backwards along the same line, towards 2q − apex. Along that ray the
                     // polynomial part restricts as usual and the rational term scales as
                     // (1 + s)³, whose Bernstein coefficients on [0, 1] are 2^k.
                     let back = [2.0 * alpha[0], 2.0 * alpha[1], 2.0 * alpha[2], -1.0];
-                    let poly = cubic
-                        .polynomial()
-                        .restrict_to_segment([alpha[0], alpha[1], alpha[2], 0.0], back);
-                    let r = c[0] - poly.coeffs()[0];
-                    let cb: [f64; 4] =
-                        std::array::from_fn(|k| poly.coeffs()[k] + r * (1u32 << k) as f64);
-                    shoot(q, q * 2.0 - apex, cb, -sign, |x| cubic.value_gradient(x).1)
+                    let poly = cubic.backward_polynomial(alpha);
+                    let r = c[0] - poly[0];
+                    let cb: [f64; 4] = std::array::from_fn(|k| poly[k] + r * (1u32 << k) as f64);
+                    shoot(q, q * 2.0 - apex, cb, -sign, |t| {
+                        cubic.gradient_at_tau(lerp(a, back, t))
+                    })
                 }
             }
             FaceFunction::Split(split) => {
@@ -160,19 +170,20 @@ impl ApatchSurface {
                 ];
                 // (4.6): towards u where F(q) ≤ 0, else towards v. The side is decided by the
                 // same b_0 = F(q) the ray uses, so rounding cannot send a ray the wrong way.
-                let ray = |s: usize| {
-                    let c = split.sides[s].polys[a].restrict_to_segment(tau, [0.0, 0.0, 0.0, 1.0]);
-                    [c.coeffs()[0], c.coeffs()[1], c.coeffs()[2], c.coeffs()[3]]
-                };
+                let apex = [0.0, 0.0, 0.0, 1.0];
+                let coeffs = [0, 1].map(|s| cubic::coeffs_of(&split.sides[s].polys[a]));
+                let ray = |s: usize| cubic::segment(&coeffs[s], tau, apex);
                 let c_up = ray(0);
                 let (s, sign, c) = if c_up[0] <= 0.0 {
                     (0, 1.0, c_up)
                 } else {
                     (1, -1.0, ray(1))
                 };
-                let poly = &split.sides[s].polys[a];
                 let tet = &split.sides[s].tets[a];
-                shoot(q, tet.vertex(3), c, sign, |x| poly.gradient_at(tet, x))
+                shoot(q, tet.vertex(3), c, sign, |t| {
+                    let (_, dp) = cubic::value_partials(&coeffs[s], lerp(tau, apex, t));
+                    gradient_from_partials(tet, dp, [0.0; 4])
+                })
             }
         }
     }
@@ -202,7 +213,8 @@ impl ApatchSurface {
         };
         let t = cubic.tetrahedron();
         let target = t.vertex(3) * y + t.vertex(0) * (1.0 - y);
-        shoot(q, target, c, sign, |p| cubic.value_gradient(p).1)
+        let (a, b) = EdgeCubic::ray_ends(x, y);
+        shoot(q, target, c, sign, |t| cubic.gradient_at_tau(lerp(a, b, t)))
     }
 
     /// Triangulates the surface: face patches at resolution `n` (n + 1 points per edge), edge
