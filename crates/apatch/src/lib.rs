@@ -13,6 +13,7 @@ pub mod face;
 mod geometry;
 pub mod quadric;
 pub mod rational;
+mod rowspace;
 pub mod sheet;
 pub mod split;
 pub mod surface;
