@@ -11,6 +11,7 @@ pub mod edge;
 pub mod error;
 pub mod face;
 mod geometry;
+pub mod parameter;
 pub mod quadric;
 pub mod rational;
 mod rowspace;
@@ -23,6 +24,7 @@ pub mod verify;
 pub use edge::{EdgeCubic, EdgeNeighbour};
 pub use error::ApatchError;
 pub use face::{FaceCubic, VertexData};
+pub use parameter::UpdatedPatches;
 pub use quadric::Quadric;
 pub use split::{SplitFace, SplitSide};
 pub use surface::{

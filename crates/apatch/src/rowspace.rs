@@ -9,7 +9,8 @@
 //! system its equation is implied). This is the QR factorisation of `Aᵀ` with dependent columns
 //! skipped, `x = A⁺ d` for consistent `d`; "twice is enough" (Giraud, Langou, Rozložník, 2005):
 //! two Gram–Schmidt passes give orthogonality to working precision for any numerically
-//! nonsingular set, which is what makes the result as accurate as the SVD it replaces.
+//! nonsingular set, which is what makes the result as accurate as the SVD it replaces (the
+//! second pass is skipped where the first did not cancel, the classical criterion).
 
 /// Orthonormal basis of the row space of a dense row-major `m × n` matrix, with the
 /// triangular coefficients of the kept rows.
@@ -46,7 +47,18 @@ impl RowBasis {
             v.copy_from_slice(&a[i * n..(i + 1) * n]);
             let r = kept.len();
             let mut hk = vec![0.0; r + 1];
-            for _pass in 0..2 {
+            let norm_of = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+            let before = norm_of(&v);
+            let mut norm = before;
+            // Second pass only where the first cancelled more than half the norm (Daniel,
+            // Gragg, Kaufman, Stewart 1976): otherwise one pass is already orthogonal to
+            // working precision. A row whose first-pass residual is below the cut is dependent
+            // whatever the second pass would say: the basis is orthonormal to ~ε, so the first
+            // pass's residual is exact to ~ε·|row|, far below the cut.
+            for pass in 0..2 {
+                if pass == 1 && (norm <= cut || norm >= 0.5 * before) {
+                    break;
+                }
                 for j in 0..r {
                     let qj = &q[j * n..(j + 1) * n];
                     let d: f64 = qj.iter().zip(&v).map(|(a, b)| a * b).sum();
@@ -55,8 +67,8 @@ impl RowBasis {
                         *x -= d * y;
                     }
                 }
+                norm = norm_of(&v);
             }
-            let norm = v.iter().map(|x| x * x).sum::<f64>().sqrt();
             if norm <= cut || norm == 0.0 {
                 continue;
             }
