@@ -14,6 +14,7 @@ mod geometry;
 pub mod parameter;
 pub mod quadric;
 pub mod rational;
+pub mod retessellate;
 mod rowspace;
 pub mod sheet;
 pub mod split;
@@ -26,10 +27,11 @@ pub use error::ApatchError;
 pub use face::{FaceCubic, VertexData};
 pub use parameter::UpdatedPatches;
 pub use quadric::Quadric;
+pub use retessellate::Retessellation;
 pub use split::{SplitFace, SplitSide};
 pub use surface::{
     ApatchSurface, ConstructionTimings, FaceFunction, FreeParameter, FreeParameterRule,
     SurfaceOptions,
 };
-pub use tessellate::{PatchKind, Tessellation};
+pub use tessellate::{PatchKind, Tessellation, TessellationLayout};
 pub use verify::{ContinuityReport, InterpolationReport, Owner, Piece, PieceFunction, Worst};
