@@ -218,4 +218,8 @@ fn rejected_edge_bound_leaves_the_surface_unchanged() {
         "{rejected} of {} near-bound values rejected by an edge bound",
         s0.free_parameters().len()
     );
+    assert!(
+        rejected > 0,
+        "no near-bound value met an edge bound: the check went unexercised"
+    );
 }
