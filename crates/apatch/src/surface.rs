@@ -1,7 +1,7 @@
 //! The whole C1 function F over the simplicial hull of a mesh, and its free parameters.
 
 use crate::geometry::apex_square;
-use crate::sheet::{face_bound, lifted_b_min};
+use crate::sheet::{certified_face_bound, lifted_b_min};
 use crate::{ApatchError, EdgeCubic, EdgeNeighbour, FaceCubic, Quadric, SplitFace, VertexData};
 use algesurf_hull::{Convexity, HullOptions, Side, SimplicialHull};
 use algesurf_mesh::TriMesh;
@@ -340,9 +340,15 @@ fn build_face(
             let mut cubic = FaceCubic::new(v, apex, mids, quadric.value(apex))?;
             let f0 = cubic.f0003();
             // Bound for sign·F: base coefficients of the ray polynomial of sign·F.
-            let b = face_bound(options.bound_level, |q| {
-                without_apex(cubic.shooting_polynomial(q), f0).map(|x| sign * x)
-            });
+            // Certified over the whole face (not a grid): see `certified_face_bound`.
+            let b = certified_face_bound(
+                cubic.polynomial(),
+                f0,
+                sign,
+                Some(cubic.rational()),
+                scale,
+                |q| without_apex(cubic.shooting_polynomial(q), f0).map(|x| sign * x),
+            );
             let value = if b.is_finite() {
                 (sign * f0).max(b + margin) * sign
             } else {
@@ -375,14 +381,16 @@ fn build_face(
                 // Rays from each sub-triangle [p_b p_c c] to this side's apex.
                 for a in 0..3 {
                     let poly = crate::cubic::coeffs_of(&side.polys[a]);
-                    worst = worst.max(face_bound(options.bound_level, |q| {
-                        let c = crate::cubic::segment(
-                            &poly,
-                            [q[0], q[1], q[2], 0.0],
-                            [0.0, 0.0, 0.0, 1.0],
-                        );
-                        without_apex(c, values[s]).map(|x| sign * x)
-                    }));
+                    let bound =
+                        certified_face_bound(&side.polys[a], values[s], sign, None, scale, |q| {
+                            let c = crate::cubic::segment(
+                                &poly,
+                                [q[0], q[1], q[2], 0.0],
+                                [0.0, 0.0, 0.0, 1.0],
+                            );
+                            without_apex(c, values[s]).map(|x| sign * x)
+                        });
+                    worst = worst.max(bound);
                 }
                 bounds[s] = worst;
                 if worst.is_finite() && sign * values[s] < worst + margin {
