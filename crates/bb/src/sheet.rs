@@ -259,10 +259,9 @@ pub struct TriangleBound {
     pub cells: usize,
 }
 
-/// A cell of the subdivision: its layers and its corners in the triangle's barycentrics.
+/// A cell of the subdivision: its corners in the triangle's barycentrics and the upper bound.
 struct Cell {
     upper: f64,
-    layers: [BbPoly<f64, 3>; 4],
     corners: [[f64; 3]; 3],
 }
 
@@ -283,7 +282,56 @@ impl Ord for Cell {
     }
 }
 
-/// Upper bound of `b_min^(1)` over a cell from the coefficient hulls of its layers.
+/// Rank of `(l0, l1, ·)` among the 3-indices of degree `m` in the storage order of
+/// [`multi_index`] (λ_0 decreasing, then λ_1).
+#[inline]
+fn rank3(l0: usize, l1: usize, m: usize) -> usize {
+    (m - l0) * (m - l0 + 1) / 2 + (m - l0 - l1)
+}
+
+/// Blossom of a triangular BB polynomial of degree `d ≤ 3` (coefficients `c`) at `args`
+/// (`d` of them): de Casteljau in place on a stack buffer. In place is safe because step
+/// `r` reads `λ + e_0` (rank `r` itself) and `λ + e_1`, `λ + e_2` (ranks above `r`) only.
+fn tri_blossom(c: &[f64], d: usize, args: &[[f64; 3]]) -> f64 {
+    let mut buf = [0.0; 10];
+    buf[..c.len()].copy_from_slice(c);
+    let mut m = d;
+    for a in args {
+        let mut r = 0;
+        for l0 in (0..m).rev() {
+            for l1 in (0..m - l0).rev() {
+                buf[r] =
+                    a[0] * buf[r] + a[1] * buf[rank3(l0, l1 + 1, m)] + a[2] * buf[rank3(l0, l1, m)];
+                r += 1;
+            }
+        }
+        m -= 1;
+    }
+    buf[0]
+}
+
+/// Least BB coefficient of each layer over the sub-triangle with `corners`: each coefficient
+/// is the blossom of the layer at the corners (repeated as its multi-index says).
+fn cell_minima(layers: &[BbPoly<f64, 3>; 4], corners: &[[f64; 3]; 3]) -> [f64; 4] {
+    std::array::from_fn(|k| {
+        let d = layers[k].degree();
+        let mut least = f64::INFINITY;
+        let mut args = [[0.0; 3]; 3];
+        for mu in multi_index::iter::<3>(d) {
+            let mut n = 0;
+            for (v, &times) in mu.iter().enumerate() {
+                for _ in 0..times {
+                    args[n] = corners[v];
+                    n += 1;
+                }
+            }
+            least = least.min(tri_blossom(layers[k].coeffs(), d, &args[..d]));
+        }
+        least
+    })
+}
+
+/// Upper bound of `b_min^(1)` over a cell from the least coefficients `m` of its layers.
 ///
 /// Why it is an upper bound: by the convex-hull property each layer `B_k(q)` is at least its
 /// least BB coefficient `m_k` on the cell. `b_min^(1) = min_t max{−3F_2(t)/t², −F_3(t)/t²}`
@@ -293,14 +341,7 @@ impl Ord for Cell {
 /// upwards, so the computed value is at least the exact one.) `b_min^(2)` is *not* monotone
 /// (its feasible set `F_1 ≤ 0` grows as the coefficients fall), which is why the certified
 /// bound is on `b_min^(1)`: any `b > b_min^(1)` satisfies Lemma 2.3 on its own.
-fn cell_upper(layers: &[BbPoly<f64, 3>; 4]) -> f64 {
-    let m: [f64; 4] = std::array::from_fn(|k| {
-        layers[k]
-            .coeffs()
-            .iter()
-            .copied()
-            .fold(f64::INFINITY, f64::min)
-    });
+fn cell_upper(m: [f64; 4]) -> f64 {
     if m[0] >= 0.0 {
         // b_0 ≥ 0 on the whole cell: every ray starts on or beyond the surface (t = 0).
         return f64::NEG_INFINITY;
@@ -342,10 +383,18 @@ pub fn certified_triangle_b_min(
     let centroid = |c: &[[f64; 3]; 3]| {
         std::array::from_fn::<f64, 3, _>(|i| (c[0][i] + c[1][i] + c[2][i]) / 3.0)
     };
+    if layers.iter().enumerate().any(|(k, l)| l.degree() != 3 - k) {
+        // Layers of a cubic have degrees 3, 2, 1, 0; anything else has no bound here.
+        return TriangleBound {
+            upper: f64::INFINITY,
+            sampled: f64::NEG_INFINITY,
+            cells: 0,
+        };
+    }
+    let whole = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
     let root = Cell {
-        upper: cell_upper(&layers),
-        corners: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
-        layers,
+        upper: cell_upper(cell_minima(&layers, &whole)),
+        corners: whole,
     };
     let mut sampled = eval_sample(centroid(&root.corners));
     let mut cells = 1;
@@ -357,28 +406,21 @@ pub fn certified_triangle_b_min(
         if top.upper - sampled <= gap || cells + 3 > max_cells {
             break;
         }
-        let cell = heap.pop().expect("peeked");
-        let parts = cell.layers.each_ref().map(|l| l.midpoint_split());
-        let c = cell.corners;
+        let c = heap.pop().expect("peeked").corners;
         let mid = |a: usize, b: usize| std::array::from_fn(|i| 0.5 * (c[a][i] + c[b][i]));
         let (m01, m02, m12) = (mid(0, 1), mid(0, 2), mid(1, 2));
-        // The corner order of `midpoint_split`.
-        let corners = [
+        // The midpoint 4-split (the corner order of `BbPoly::midpoint_split`).
+        let children = [
             [c[0], m01, m02],
             [m01, c[1], m12],
             [m02, m12, c[2]],
             [m12, m02, m01],
         ];
-        for (k, corners) in corners.into_iter().enumerate() {
-            let layers: [BbPoly<f64, 3>; 4] = std::array::from_fn(|j| parts[j][k].clone());
+        for corners in children {
             sampled = sampled.max(eval_sample(centroid(&corners)));
-            let upper = cell_upper(&layers);
+            let upper = cell_upper(cell_minima(&layers, &corners));
             if upper > f64::NEG_INFINITY {
-                heap.push(Cell {
-                    upper,
-                    layers,
-                    corners,
-                });
+                heap.push(Cell { upper, corners });
             }
         }
         cells += 3;
