@@ -11,6 +11,7 @@
 //! once: a root of a shooting polynomial and a gradient).
 
 use algesurf::apatch::{ApatchSurface, SurfaceOptions};
+use algesurf::hull::Side;
 use algesurf::mesh::{NormalMethod, TriMesh, shapes, vertex_normals};
 use divan::counter::ItemsCount;
 use divan::{Bencher, black_box};
@@ -55,4 +56,63 @@ fn tessellation(bencher: Bencher, name: &str) {
     bencher
         .counter(ItemsCount::new(points))
         .bench_local(|| black_box(&surface).tessellate(8, 8).expect("tessellation"));
+}
+
+/// A surface, its `tessellate(8, 8)`, and a free parameter in the middle of the list with two
+/// admissible values (its own and one further from its bound).
+fn updatable(
+    name: &str,
+) -> (
+    ApatchSurface,
+    algesurf::apatch::Tessellation,
+    usize,
+    Side,
+    [f64; 2],
+) {
+    let (m, n) = mesh(name);
+    let surface = ApatchSurface::new(&m, &n, &SurfaceOptions::default()).expect("surface");
+    let tess = surface.tessellate(8, 8).expect("tessellation");
+    let p = surface.free_parameters()[surface.free_parameters().len() / 2];
+    let sign = if p.side == Side::Positive { 1.0 } else { -1.0 };
+    (
+        surface,
+        tess,
+        p.face,
+        p.side,
+        [p.value, p.value + sign * 0.5 * p.scale],
+    )
+}
+
+/// §5.3 interactive update, re-tessellation part (target ≤ 50 µs): re-evaluate the rays of one
+/// face's patches (the face and its same-side edge patches) at `tessellate(8, 8)` after a
+/// parameter change, writing the points in place.
+#[divan::bench(args = MESHES, sample_count = 50, sample_size = 20)]
+fn retessellate_one_face(bencher: Bencher, name: &str) {
+    let (mut surface, mut tess, face, side, values) = updatable(name);
+    let up = surface
+        .set_free_parameter(face, side, values[1])
+        .expect("admissible");
+    bencher.bench_local(|| {
+        surface
+            .retessellate_patches(black_box(&mut tess), &up)
+            .expect("retessellation")
+    });
+}
+
+/// §5.3 interactive update, whole: set one face's parameter (alternating between two
+/// admissible values; includes rebuilding its edge cubics and re-checking their Step 6 bounds)
+/// and re-tessellate its patches.
+#[divan::bench(args = MESHES, sample_count = 50, sample_size = 20)]
+fn set_and_retessellate_one_face(bencher: Bencher, name: &str) {
+    let (mut surface, mut tess, face, side, values) = updatable(name);
+    let mut k = 0;
+    bencher.bench_local(|| {
+        k += 1;
+        let up = surface
+            .set_free_parameter(face, side, values[k % 2])
+            .expect("admissible");
+        surface
+            .retessellate_patches(black_box(&mut tess), &up)
+            .expect("retessellation")
+    });
 }

@@ -11,7 +11,8 @@
 //! `(a τ0 + b τ3)/(τ0 + τ3)` takes `b` from the `k` side and `a` from the `l` side; their
 //! polynomial part is zero (Step 7's "number 5" coefficients).
 
-use crate::geometry::{exact_barycentric, value_gradient_with};
+use crate::cubic;
+use crate::geometry::{exact_barycentric, gradient_from_partials, value_gradient_with};
 use crate::rational::edge_term;
 use crate::{ApatchError, FaceCubic};
 use algesurf_bb::{BbPoly, Tetrahedron, multi_index};
@@ -79,12 +80,9 @@ impl crate::SplitSide {
 
 /// The coefficient at `lambda` (indices on `verts`, given in the side's barycentric
 /// coordinates) of the side's polynomial re-expressed on the edge tetrahedron.
-fn blossom_at(poly: &BbPoly<f64, 4>, verts: &[[f64; 4]; 4], lambda: [usize; 4]) -> f64 {
-    let mut args = Vec::with_capacity(3);
-    for (s, &l) in lambda.iter().enumerate() {
-        args.extend(std::iter::repeat_n(verts[s], l));
-    }
-    poly.blossom(&args).expect("three arguments for a cubic")
+fn blossom_at(poly: &cubic::Coeffs, verts: &[[f64; 4]; 4], lambda: [usize; 4]) -> f64 {
+    let [a, b, d] = cubic::blossom_args(verts, lambda);
+    cubic::blossom(poly, a, b, d)
 }
 
 impl EdgeCubic {
@@ -115,18 +113,22 @@ impl EdgeCubic {
         let uk = k.tet.vertex(3);
         let ul = l.tet.vertex(3);
         let tet = Tetrahedron::new([ul, pi, pj, uk])?;
-        let side = |n: &EdgeNeighbour| -> (BbPoly<f64, 4>, [[f64; 4]; 4]) {
+        let side = |n: &EdgeNeighbour| -> (cubic::Coeffs, [[f64; 4]; 4]) {
             let t = &n.tet;
             let bary = |p: DVec3| exact_barycentric(t, p);
-            (n.poly.clone(), [bary(ul), bary(pi), bary(pj), bary(uk)])
+            (
+                cubic::coeffs_of(&n.poly),
+                [bary(ul), bary(pi), bary(pj), bary(uk)],
+            )
         };
         let (pk, vk) = side(k);
         let (pl, vl) = side(l);
         let mut poly = BbPoly::<f64, 4>::zero(3);
         let mut mismatch: f64 = 0.0;
-        let scale = pk
+        let scale = k
+            .poly
             .max_coeff_norm()
-            .max(pl.max_coeff_norm())
+            .max(l.poly.max_coeff_norm())
             .max(f64::MIN_POSITIVE);
         let mut rational = [[0.0; 2]; 2];
         for lambda in multi_index::iter::<4>(3) {
@@ -189,13 +191,24 @@ impl EdgeCubic {
         })
     }
 
+    /// Barycentric end points of the ray (4.9) from `q = x p_i + (1 − x) p_j` to
+    /// `u = y u_k + (1 − y) u_l`.
+    pub(crate) fn ray_ends(x: f64, y: f64) -> ([f64; 4], [f64; 4]) {
+        ([0.0, x, 1.0 - x, 0.0], [1.0 - y, 0.0, 0.0, y])
+    }
+
+    /// Cartesian gradient of F at barycentric coordinates `tau`.
+    pub(crate) fn gradient_at_tau(&self, tau: [f64; 4]) -> DVec3 {
+        let (_, dp) = cubic::value_partials(&cubic::coeffs_of(&self.poly), tau);
+        let (_, dr) = edge_term(tau, self.rational);
+        gradient_from_partials(&self.tet, dp, dr)
+    }
+
     /// Coefficients of the shooting polynomial (4.9) from `q = x p_i + (1 − x) p_j` to
     /// `u = y u_k + (1 − y) u_l`.
     pub fn shooting_polynomial(&self, x: f64, y: f64) -> [f64; 4] {
-        let a = [0.0, x, 1.0 - x, 0.0];
-        let b = [1.0 - y, 0.0, 0.0, y];
-        let s = self.poly.restrict_to_segment(a, b);
-        let mut c = [s.coeffs()[0], s.coeffs()[1], s.coeffs()[2], s.coeffs()[3]];
+        let (a, b) = Self::ray_ends(x, y);
+        let mut c = cubic::segment(&cubic::coeffs_of(&self.poly), a, b);
         // The rational part only touches B_2 (4.9): along the segment τ = (1−t)a + t b the
         // term is 6 t²(1−t) (x or 1−x) y(1−y) · blend, with blend = (1−y)·a_m + y·b_m because
         // τ0 : τ3 = (1 − y) : y is constant along the segment.

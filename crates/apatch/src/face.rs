@@ -20,7 +20,8 @@
 //! conditions with both neighbours of an edge consistent.
 
 use crate::ApatchError;
-use crate::geometry::{foot, value_gradient_with};
+use crate::cubic;
+use crate::geometry::{foot, gradient_from_partials, value_gradient_with};
 use crate::rational::face_term;
 use algesurf_bb::{BbPoly, Tetrahedron, continuity, multi_index};
 use glam::DVec3;
@@ -240,8 +241,24 @@ impl FaceCubic {
     /// face point with barycentric coordinates `q` (on `[p_0 p_1 p_2]`) to the apex.
     pub fn shooting_polynomial(&self, q: [f64; 3]) -> [f64; 4] {
         let a = [q[0], q[1], q[2], 0.0];
-        let s = self.poly.restrict_to_segment(a, [0.0, 0.0, 0.0, 1.0]);
-        let c = s.coeffs();
+        let c = cubic::segment(&cubic::coeffs_of(&self.poly), a, [0.0, 0.0, 0.0, 1.0]);
         [c[0] + face_term(a, self.rational).0, c[1], c[2], c[3]]
+    }
+
+    /// Coefficients of the polynomial part along the segment from the face point `q` to the
+    /// mirrored apex `2q − apex` (the backward ray of (4.5)), i.e. with end point
+    /// `(2q, −1)` in barycentric coordinates.
+    pub(crate) fn backward_polynomial(&self, q: [f64; 3]) -> [f64; 4] {
+        let a = [q[0], q[1], q[2], 0.0];
+        let b = [2.0 * q[0], 2.0 * q[1], 2.0 * q[2], -1.0];
+        cubic::segment(&cubic::coeffs_of(&self.poly), a, b)
+    }
+
+    /// Cartesian gradient of F at barycentric coordinates `tau` (no Cartesian→barycentric
+    /// solve: the rays of the tessellation know their point's coordinates).
+    pub(crate) fn gradient_at_tau(&self, tau: [f64; 4]) -> DVec3 {
+        let (_, dp) = cubic::value_partials(&cubic::coeffs_of(&self.poly), tau);
+        let (_, dr) = face_term(tau, self.rational);
+        gradient_from_partials(&self.tet, dp, dr)
     }
 }

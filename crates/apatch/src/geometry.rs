@@ -40,6 +40,18 @@ pub(crate) fn value_gradient_with(
     (poly.eval(tau) + r, grad)
 }
 
+/// Cartesian gradient `Σ_i (∂P/∂τ_i + ∂R/∂τ_i) ∇τ_i` from the formal partials of the
+/// polynomial part `dp` and of the rational part `dr` (both homogeneous of degree 3, so the
+/// formal partials combine with the constant barycentric gradients, see `rational`).
+pub(crate) fn gradient_from_partials(tet: &Tetrahedron, dp: [f64; 4], dr: [f64; 4]) -> DVec3 {
+    let g = tet.barycentric_gradients();
+    let mut grad = DVec3::ZERO;
+    for i in 0..4 {
+        grad += g[i] * (dp[i] + dr[i]);
+    }
+    grad
+}
+
 /// `τ_apex²` as a cubic on a tetrahedron with the apex last: 1/3 on the layer λ_3 = 2, 1 at the
 /// apex. Raising a face side's apex value by δ adds exactly δ·τ_apex² to its pieces: for a convex
 /// face through (4.14); for a split face because τ_apex² meets every hard constraint (zero value

@@ -6,14 +6,18 @@
 // formulas they implement; iterator chains over zipped arrays would hide that.
 #![allow(clippy::needless_range_loop)]
 
+mod cubic;
 pub mod edge;
 pub mod error;
 pub mod examples;
 pub mod face;
 mod geometry;
 pub mod gradient_scale;
+pub mod parameter;
 pub mod quadric;
 pub mod rational;
+pub mod retessellate;
+mod rowspace;
 pub mod sheet;
 pub mod split;
 pub mod surface;
@@ -23,11 +27,13 @@ pub mod verify;
 pub use edge::{EdgeCubic, EdgeNeighbour};
 pub use error::ApatchError;
 pub use face::{FaceCubic, VertexData};
+pub use parameter::UpdatedPatches;
 pub use quadric::Quadric;
+pub use retessellate::Retessellation;
 pub use split::{SplitFace, SplitSide};
 pub use surface::{
     ApatchSurface, ConstructionTimings, FaceFunction, FreeParameter, FreeParameterRule,
     SurfaceOptions,
 };
-pub use tessellate::{PatchKind, Tessellation};
+pub use tessellate::{PatchKind, Tessellation, TessellationLayout};
 pub use verify::{ContinuityReport, InterpolationReport, Owner, Piece, PieceFunction, Worst};

@@ -11,11 +11,17 @@
 //! per ray this is `algesurf_bb::sheet::lemma_2_3_b_min`, computed from critical points and
 //! rounded upwards, i.e. certified).
 //!
-//! The maximum over the face is taken over a barycentric grid; every ray of the tessellation is
-//! then checked for a simple root (`Tessellation::multiple_roots`, `missed_rays`), so a point
-//! between grid samples that needed more shows up as a measured failure, not silently.
+//! Over a face (convex faces and each sub-triangle of a split face) the maximum is certified:
+//! [`certified_face_bound`] bounds Lemma 2.3's `b_min^(1)` from above at every point of the face
+//! by BB subdivision (branch and bound on the layer polynomials' coefficient hulls), within
+//! [`CERTIFIED_GAP`] of the best sampled value. The edge bounds (the rays (4.9) over the
+//! edge's `(x, y)` square, [`lifted_b_min`]) are still taken on a grid of `bound_level`; every
+//! ray of the tessellation is checked for a simple root (`Tessellation::multiple_roots`,
+//! `missed_rays`), so a point between grid samples that needed more shows up as a measured
+//! failure, not silently. [`face_bound`] is the grid maximum, kept for comparison.
 
-use algesurf_bb::sheet::lemma_2_3_b_min;
+use algesurf_bb::BbPoly;
+use algesurf_bb::sheet::{certified_triangle_b_min, lemma_2_3_b_min};
 
 /// `max_q b_min(q)` over a triangular grid of `level` subdivisions of a face (barycentric
 /// points `(i, j, k)/level`, all of them, corners included: there `b_0 = 0` and they are
@@ -115,4 +121,47 @@ pub fn lifted_b_min(base: [f64; 4], lift: [f64; 4]) -> Option<f64> {
         }
     }
     Some(best.min(phi(0.5 * (lo + hi))))
+}
+
+/// Gap of the certified face bound, relative to the face's coefficient scale
+/// (`max |∇F| · longest edge`): half the default [`crate::SurfaceOptions::sheet_margin`], so
+/// the certified bound overshoots the true maximum by less than the margin kept above it
+/// (1e-3 needed up to 1024 cells on some torus faces, 5e-3 at most ~140).
+pub const CERTIFIED_GAP: f64 = 5e-3;
+
+/// Cells of the subdivision of one face before [`certified_face_bound`] stops refining (the
+/// result is an upper bound either way; this only caps the work on faces where the maximum is
+/// approached at a corner, where `b_0 → 0`).
+pub const CERTIFIED_MAX_CELLS: usize = 256;
+
+/// Certified Step 6 bound over the face `[q_0 q_1 q_2]` of a piece `poly` (apex last) for
+/// `sign · F` (sign +1 on the positive side): an upper bound, valid at every point of the face,
+/// of Lemma 2.3's `b_min^(1)` of the base shooting polynomials (apex value `apex_value` removed
+/// as in (4.14)), within [`CERTIFIED_GAP`]` · scale` of the largest value sampled (see
+/// [`algesurf_bb::sheet::certified_triangle_b_min`] for why it is an upper bound). `rational`:
+/// the values `r_a` of the blend of (4.1) for a convex face; the face term
+/// `6 τ0τ1τ2 · blend` is at least `min_a (sign r_a) · B_111(τ)` because the blend is a convex
+/// combination of the `r_a` on the face, so that is added to the layer-0 coefficient at
+/// `(1,1,1)` to keep the layers below the true coefficients. `base(q)` gives the true base
+/// coefficients of `sign · F` at the face point `q`. `−∞` when no ray starts where `b_0 < 0`.
+pub fn certified_face_bound(
+    poly: &BbPoly<f64, 4>,
+    apex_value: f64,
+    sign: f64,
+    rational: Option<[f64; 3]>,
+    scale: f64,
+    base: impl Fn([f64; 3]) -> [f64; 4],
+) -> f64 {
+    let layers = poly.layers::<3>(3).expect("vertex 3 of a tetrahedron");
+    let mut layers: [BbPoly<f64, 3>; 4] = std::array::from_fn(|k| {
+        // (4.14): layer 2 carries f/3, the apex f; remove them like `without_apex`.
+        let off = [0.0, 0.0, apex_value / 3.0, apex_value][k];
+        layers[k].map(|c| sign * (c - off))
+    });
+    if let Some(r) = rational {
+        let low = r.iter().map(|x| sign * x).fold(f64::INFINITY, f64::min);
+        let c = layers[0].coeff([1, 1, 1]);
+        layers[0].set([1, 1, 1], c + low);
+    }
+    certified_triangle_b_min(layers, base, CERTIFIED_GAP * scale, CERTIFIED_MAX_CELLS).upper
 }

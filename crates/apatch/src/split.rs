@@ -18,11 +18,12 @@
 //! satisfies, so it is the target's: `(f + 2 q)/3` as in (4.14), keeping Lemma 2.3's
 //! `b t²` lifting for the single-sheet bound.
 
+use crate::cubic;
 use crate::geometry::{apex_square, exact_barycentric, foot};
+use crate::rowspace::RowBasis;
 use crate::{ApatchError, Quadric, VertexData};
 use algesurf_bb::{BbPoly, PowerPoly, Tetrahedron, multi_index};
 use glam::DVec3;
-use nalgebra::{DMatrix, DVector};
 
 /// One side (apex) of a split face: three cubics on `[p_b, p_c, c, apex]`, `a` = 0, 1, 2 the
 /// face vertex opposite the sub-tetrahedron (so sub-tetrahedron `a` carries the edge
@@ -46,26 +47,11 @@ pub struct SplitFace {
 }
 
 /// Linear form of a coefficient of `poly_b` (on `b`) induced by `poly_a` (on `a`): weights
-/// `w_μ` with `coeff_B(λ) = Σ_μ w_μ x_A[μ]` = blossom of A at B's vertices.
+/// `w_μ` with `coeff_B(λ) = Σ_μ w_μ x_A[μ]` = blossom of A at B's vertices (Lemma 2.2).
 fn continuation_weights(a: &Tetrahedron, b: &Tetrahedron, lambda: [usize; 4]) -> [f64; 20] {
     let verts: [[f64; 4]; 4] = std::array::from_fn(|s| exact_barycentric(a, b.vertex(s)));
-    let mut args = Vec::with_capacity(3);
-    for (s, &l) in lambda.iter().enumerate() {
-        args.extend(std::iter::repeat_n(verts[s], l));
-    }
-    on_basis(|unit| unit.blossom(&args).expect("three arguments"))
-}
-
-/// A linear functional of cubics (blossom, directional derivative, …) evaluated on each of the
-/// 20 Bernstein basis polynomials: its weights on the coefficients, in storage order.
-fn on_basis(functional: impl Fn(&BbPoly<f64, 4>) -> f64) -> [f64; 20] {
-    let mut w = [0.0; 20];
-    for (r, mu) in multi_index::iter::<4>(3).enumerate() {
-        let mut unit = BbPoly::<f64, 4>::zero(3);
-        unit.set(mu, 1.0);
-        w[r] = functional(&unit);
-    }
-    w
+    let [x, y, z] = cubic::blossom_args(&verts, lambda);
+    cubic::blossom_weights(x, y, z)
 }
 
 struct System {
@@ -153,7 +139,8 @@ impl SplitFace {
                     apexes[side] - foot(apexes[side], p[b], p[cc]),
                 ] {
                     let dir = tets[ti].barycentric_direction(d);
-                    let weights = on_basis(|unit| unit.directional_derivative(m, &[dir]));
+                    // D_d F(m) = 3 b[d, m, m] (see `cubic`).
+                    let weights = cubic::blossom_weights(dir, m, m).map(|w| 3.0 * w);
                     let terms = weights.iter().enumerate().filter(|(_, w)| **w != 0.0);
                     sys.push(terms.map(|(r, w)| (ti * 20 + r, *w)).collect(), d.dot(g));
                 }
@@ -172,7 +159,7 @@ impl SplitFace {
             }
         }
         // Target: the local quadric family Q + (f − Q(apex)) τ_apex², per sub-tetrahedron.
-        let mut target = DVector::<f64>::zeros(n);
+        let mut target = vec![0.0; n];
         for (ti, tet) in tets.iter().enumerate() {
             let side = ti / 3;
             let mut qp = PowerPoly::<4>::zero(2);
@@ -223,39 +210,45 @@ impl SplitFace {
         }
         let coupled: Vec<&(Vec<(usize, f64)>, f64)> =
             sys.rows.iter().filter(|(t, _)| t.len() > 1).collect();
-        let mut a_mat = DMatrix::<f64>::zeros(coupled.len(), free.len());
-        let mut rhs = DVector::<f64>::zeros(coupled.len());
+        let (m, nf) = (coupled.len(), free.len());
+        // Dense row-major m × nf (about 150 × 66 for two apexes).
+        let mut a_mat = vec![0.0; m * nf];
+        let mut rhs = vec![0.0; m];
         for (i, (terms, r)) in coupled.iter().enumerate() {
             let mut v = *r;
             for &(j, w) in terms {
                 match fixed[j] {
                     Some(x) => v -= w * x,
-                    None => a_mat[(i, col[j])] += w,
+                    None => a_mat[i * nf + col[j]] += w,
                 }
             }
             rhs[i] = v;
         }
-        let t_free = DVector::<f64>::from_iterator(free.len(), free.iter().map(|&j| target[j]));
-        let defect = &rhs - &a_mat * &t_free;
-        let svd = a_mat.clone().svd(true, true);
-        // Rank cut at 1e-10 of the largest singular value: the constraint matrix repeats
-        // conditions (C0 rows shared by several joins), so exact zeros appear; rows are O(1).
-        let tol = 1e-10 * svd.singular_values.max();
-        let dx = svd
-            .solve(&defect, tol)
-            .map_err(|e| ApatchError::Degenerate(format!("split face solve: {e}")))?;
-        let mut xf = &t_free + dx;
-        // Two steps of iterative refinement: each reduces the constraint residual by the
-        // solver's relative accuracy again, ending at rounding level.
-        for _ in 0..2 {
-            let r = &rhs - &a_mat * &xf;
-            if let Ok(step) = svd.solve(&r, tol) {
-                xf += step;
+        let residual_of = |x: &[f64]| -> Vec<f64> {
+            (0..m)
+                .map(|i| {
+                    let row = &a_mat[i * nf..(i + 1) * nf];
+                    rhs[i] - row.iter().zip(x).map(|(a, b)| a * b).sum::<f64>()
+                })
+                .collect()
+        };
+        let mut xf: Vec<f64> = free.iter().map(|&j| target[j]).collect();
+        // Rank cut at 1e-10 of the largest row norm: the constraint matrix repeats conditions
+        // (C0 rows shared by several joins), so exactly dependent rows appear (their residual
+        // after projection is ~1e-16); rows are O(1).
+        let basis = RowBasis::new(&a_mat, m, nf, 1e-10);
+        // x = t + A⁺ (b − A t), then two steps of iterative refinement: each reduces the
+        // constraint residual by the solver's relative accuracy again, ending at rounding level.
+        for _ in 0..3 {
+            let step = basis.solve(&residual_of(&xf));
+            for (x, s) in xf.iter_mut().zip(step) {
+                *x += s;
             }
         }
+        let amax = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
         let residual =
-            (&a_mat * &xf - &rhs).amax() / rhs.amax().max(target.amax()).max(f64::MIN_POSITIVE);
-        let mut x = DVector::<f64>::zeros(n);
+            amax(&residual_of(&xf)) / amax(&rhs).max(amax(&target)).max(f64::MIN_POSITIVE);
+        let mut x = vec![0.0; n];
         for j in 0..n {
             x[j] = match fixed[j] {
                 Some(v) => v,
@@ -266,8 +259,7 @@ impl SplitFace {
         for side in 0..apexes.len() {
             let polys = std::array::from_fn(|a| {
                 let ti = side * 3 + a;
-                BbPoly::new(3, x.as_slice()[ti * 20..ti * 20 + 20].to_vec())
-                    .expect("20 coefficients")
+                BbPoly::new(3, x[ti * 20..ti * 20 + 20].to_vec()).expect("20 coefficients")
             });
             let ts = std::array::from_fn(|a| tets[side * 3 + a]);
             sides.push(SplitSide { tets: ts, polys });

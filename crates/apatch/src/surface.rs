@@ -1,7 +1,7 @@
 //! The whole C1 function F over the simplicial hull of a mesh, and its free parameters.
 
 use crate::geometry::apex_square;
-use crate::sheet::{face_bound, lifted_b_min};
+use crate::sheet::{certified_face_bound, lifted_b_min};
 use crate::{ApatchError, EdgeCubic, EdgeNeighbour, FaceCubic, Quadric, SplitFace, VertexData};
 use algesurf_hull::{Convexity, HullOptions, Side, SimplicialHull};
 use algesurf_mesh::TriMesh;
@@ -114,13 +114,16 @@ pub struct FreeParameter {
 /// The piecewise rational C1 function F of Xu–Huang–Bajaj 2001 on the hull of a mesh.
 #[derive(Clone, Debug)]
 pub struct ApatchSurface {
-    hull: SimplicialHull,
-    faces: Vec<FaceFunction>,
+    pub(crate) hull: SimplicialHull,
+    pub(crate) faces: Vec<FaceFunction>,
     /// Per hull edge: `[positive, negative]` edge cubics.
-    edges: Vec<[Option<EdgeCubic>; 2]>,
-    parameters: Vec<FreeParameter>,
+    pub(crate) edges: Vec<[Option<EdgeCubic>; 2]>,
+    /// Sorted by face, then positive before negative.
+    pub(crate) parameters: Vec<FreeParameter>,
     adjusted_normals: Vec<u32>,
     timings: ConstructionTimings,
+    /// [`SurfaceOptions::bound_level`], for re-checking edge bounds after a parameter change.
+    pub(crate) bound_level: usize,
 }
 
 /// Wall-clock time of the stages of [`ApatchSurface::new`].
@@ -246,6 +249,7 @@ impl ApatchSurface {
             parameters,
             adjusted_normals,
             timings,
+            bound_level: options.bound_level,
         })
     }
 
@@ -336,9 +340,15 @@ fn build_face(
             let mut cubic = FaceCubic::new(v, apex, mids, quadric.value(apex))?;
             let f0 = cubic.f0003();
             // Bound for sign·F: base coefficients of the ray polynomial of sign·F.
-            let b = face_bound(options.bound_level, |q| {
-                without_apex(cubic.shooting_polynomial(q), f0).map(|x| sign * x)
-            });
+            // Certified over the whole face (not a grid): see `certified_face_bound`.
+            let b = certified_face_bound(
+                cubic.polynomial(),
+                f0,
+                sign,
+                Some(cubic.rational()),
+                scale,
+                |q| without_apex(cubic.shooting_polynomial(q), f0).map(|x| sign * x),
+            );
             let value = if b.is_finite() {
                 (sign * f0).max(b + margin) * sign
             } else {
@@ -370,13 +380,17 @@ fn build_face(
                 let mut worst = f64::NEG_INFINITY;
                 // Rays from each sub-triangle [p_b p_c c] to this side's apex.
                 for a in 0..3 {
-                    let poly = &side.polys[a];
-                    worst = worst.max(face_bound(options.bound_level, |q| {
-                        let c =
-                            poly.restrict_to_segment([q[0], q[1], q[2], 0.0], [0.0, 0.0, 0.0, 1.0]);
-                        let c = [c.coeffs()[0], c.coeffs()[1], c.coeffs()[2], c.coeffs()[3]];
-                        without_apex(c, values[s]).map(|x| sign * x)
-                    }));
+                    let poly = crate::cubic::coeffs_of(&side.polys[a]);
+                    let bound =
+                        certified_face_bound(&side.polys[a], values[s], sign, None, scale, |q| {
+                            let c = crate::cubic::segment(
+                                &poly,
+                                [q[0], q[1], q[2], 0.0],
+                                [0.0, 0.0, 0.0, 1.0],
+                            );
+                            without_apex(c, values[s]).map(|x| sign * x)
+                        });
+                    worst = worst.max(bound);
                 }
                 bounds[s] = worst;
                 if worst.is_finite() && sign * values[s] < worst + margin {
@@ -432,6 +446,65 @@ fn build_edges(
 /// Increments of apex values an edge asks for: `((face, side), δ)`.
 type Needs = Vec<((usize, Side), f64)>;
 
+/// Step 6 for one edge tetrahedron (`slot` 0 positive, 1 negative) of the interior edge `e`:
+/// the largest, over a grid of `level` steps in each direction of the rays (4.9), of the least
+/// common increment `b` of the two faces' apex values for which [`lifted_b_min`] certifies the
+/// ray's smallest root simple. Negative when the current coefficients suffice everywhere on the
+/// grid; `−∞` when no grid ray starts where F has this side's sign.
+pub(crate) fn edge_need(
+    hull: &SimplicialHull,
+    faces: &[FaceFunction],
+    edges: &[[Option<EdgeCubic>; 2]],
+    e: usize,
+    slot: usize,
+    level: usize,
+) -> Result<f64, ApatchError> {
+    let pos = hull.mesh().positions();
+    let he = &hull.edges()[e];
+    let (Some(fl), Some(cubic)) = (he.face_l, &edges[e][slot]) else {
+        return Ok(f64::NEG_INFINITY);
+    };
+    let (side, sign) = if slot == 0 {
+        (Side::Positive, 1.0)
+    } else {
+        (Side::Negative, -1.0)
+    };
+    let (pi, pj) = (pos[he.vertices[0] as usize], pos[he.vertices[1] as usize]);
+    let sq = apex_square();
+    let k = faces[he.face_k as usize].edge_neighbour(side, pi, pj)?;
+    let l = faces[fl as usize].edge_neighbour(side, pi, pj)?;
+    let lift = EdgeCubic::from_neighbours(
+        pi,
+        pj,
+        &EdgeNeighbour {
+            tet: k.tet,
+            poly: sq.clone(),
+        },
+        &EdgeNeighbour {
+            tet: l.tet,
+            poly: sq,
+        },
+    )?;
+    let two_sided = edges[e][0].is_some() && edges[e][1].is_some();
+    let level = level.max(2);
+    let mut need = f64::NEG_INFINITY;
+    for i in 1..level {
+        for j in 0..=level {
+            let (x, y) = (i as f64 / level as f64, j as f64 / level as f64);
+            let c = cubic.shooting_polynomial(x, y);
+            // On a two-sided edge each side serves the rays where F(q) has its sign.
+            if two_sided && sign * c[0] > 0.0 {
+                continue;
+            }
+            let base = c.map(|v| sign * v);
+            if let Some(b) = lifted_b_min(base, lift.shooting_polynomial(x, y)) {
+                need = need.max(b);
+            }
+        }
+    }
+    Ok(need)
+}
+
 /// Per face side, the increment of its apex value that its edges need (Step 6 with
 /// [`lifted_b_min`]), only where positive.
 fn edge_increments(
@@ -440,8 +513,6 @@ fn edge_increments(
     edges: &[[Option<EdgeCubic>; 2]],
     options: &SurfaceOptions,
 ) -> Result<HashMap<(usize, Side), f64>, ApatchError> {
-    let pos = hull.mesh().positions();
-    let sq = apex_square();
     let needs: Vec<Needs> = hull
         .edges()
         .par_iter()
@@ -450,47 +521,13 @@ fn edge_increments(
             let Some(fl) = he.face_l else {
                 return Ok(Vec::new());
             };
-            let (pi, pj) = (pos[he.vertices[0] as usize], pos[he.vertices[1] as usize]);
             let mut out = Vec::new();
-            for (slot, side, sign) in [
-                (0usize, Side::Positive, 1.0),
-                (1usize, Side::Negative, -1.0),
-            ] {
+            for (slot, side) in [(0usize, Side::Positive), (1usize, Side::Negative)] {
                 let Some(cubic) = &edges[e][slot] else {
                     continue;
                 };
-                let k = faces[he.face_k as usize].edge_neighbour(side, pi, pj)?;
-                let l = faces[fl as usize].edge_neighbour(side, pi, pj)?;
-                let lift = EdgeCubic::from_neighbours(
-                    pi,
-                    pj,
-                    &EdgeNeighbour {
-                        tet: k.tet,
-                        poly: sq.clone(),
-                    },
-                    &EdgeNeighbour {
-                        tet: l.tet,
-                        poly: sq.clone(),
-                    },
-                )?;
                 let margin = options.sheet_margin * cubic.polynomial().max_coeff_norm();
-                let two_sided = edges[e][0].is_some() && edges[e][1].is_some();
-                let level = options.bound_level.max(2);
-                let mut need = f64::NEG_INFINITY;
-                for i in 1..level {
-                    for j in 0..=level {
-                        let (x, y) = (i as f64 / level as f64, j as f64 / level as f64);
-                        let c = cubic.shooting_polynomial(x, y);
-                        // On a two-sided edge each side serves the rays where F(q) has its sign.
-                        if two_sided && sign * c[0] > 0.0 {
-                            continue;
-                        }
-                        let base = c.map(|v| sign * v);
-                        if let Some(b) = lifted_b_min(base, lift.shooting_polynomial(x, y)) {
-                            need = need.max(b);
-                        }
-                    }
-                }
+                let need = edge_need(hull, faces, edges, e, slot, options.bound_level)?;
                 if need > -margin {
                     let delta = need + margin;
                     out.push(((he.face_k as usize, side), delta));

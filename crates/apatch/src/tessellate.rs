@@ -8,13 +8,14 @@
 //! appears twice. Patches are evaluated in parallel and numbered in a serial pass, so the
 //! output is the same for every run and thread count.
 
+use crate::cubic;
+use crate::geometry::gradient_from_partials;
 use crate::surface::FaceFunction;
-use crate::{ApatchError, ApatchSurface};
+use crate::{ApatchError, ApatchSurface, EdgeCubic};
 use algesurf_bb::roots::shooting_root;
 use algesurf_hull::Side;
 use glam::DVec3;
 use rayon::prelude::*;
-use std::collections::HashMap;
 
 /// What a patch of the output is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -47,17 +48,77 @@ pub struct Tessellation {
     pub missed_rays: Vec<(u32, DVec3)>,
     /// Rays whose chosen root is not certified simple: `(patch, point)`.
     pub multiple_roots: Vec<(u32, DVec3)>,
+    /// Which ray wrote which vertex, for [`ApatchSurface::retessellate_patches`]; `None` for a
+    /// tessellation not made by [`ApatchSurface::tessellate`].
+    pub layout: Option<TessellationLayout>,
+}
+
+/// The ray-to-vertex map of a [`Tessellation`]: resolution, the vertex of every face grid point
+/// and edge-patch interior grid point, and per vertex the patch that evaluated it and its ray's
+/// flags.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct TessellationLayout {
+    pub(crate) n: usize,
+    pub(crate) m: usize,
+    /// `face_count × grid points` (order of `face_grid`).
+    pub(crate) face_ids: Vec<u32>,
+    /// `edge count × (n − 1)(m − 1)`, `u32::MAX` where an edge has no patch.
+    pub(crate) edge_ids: Vec<u32>,
+    /// Patch that evaluated each vertex (`u32::MAX`: a mesh vertex).
+    pub(crate) owner: Vec<u32>,
+    /// [`AT_START`], [`MISSED`], [`MULTIPLE`] of the vertex's ray.
+    pub(crate) flags: Vec<u8>,
+}
+
+pub(crate) const AT_START: u8 = 1;
+pub(crate) const MISSED: u8 = 2;
+pub(crate) const MULTIPLE: u8 = 4;
+
+impl RayPoint {
+    pub(crate) fn flags(&self) -> u8 {
+        (self.at_start as u8 * AT_START)
+            | (self.missed as u8 * MISSED)
+            | (self.multiple as u8 * MULTIPLE)
+    }
+}
+
+impl Tessellation {
+    /// Appends the point of ray `r` evaluated by `patch`; returns its id.
+    fn push(&mut self, layout: &mut TessellationLayout, r: &RayPoint, patch: u32) -> u32 {
+        if r.missed {
+            self.missed_rays.push((patch, r.position));
+        }
+        if r.multiple {
+            self.multiple_roots.push((patch, r.position));
+        }
+        self.positions.push(r.position);
+        self.normals.push(r.normal);
+        layout.owner.push(patch);
+        layout.flags.push(r.flags());
+        (self.positions.len() - 1) as u32
+    }
+
+    fn push_triangle(&mut self, t: [u32; 3], patch: u32, kind: PatchKind) {
+        self.triangles.push(t);
+        self.triangle_patch.push(patch);
+        self.triangle_kind.push(kind);
+    }
 }
 
 /// One evaluated ray.
 #[derive(Clone, Copy, Debug)]
-struct RayPoint {
-    position: DVec3,
-    normal: DVec3,
+pub(crate) struct RayPoint {
+    pub(crate) position: DVec3,
+    pub(crate) normal: DVec3,
     /// Root exactly at the ray's start (a point of the mesh).
-    at_start: bool,
-    missed: bool,
-    multiple: bool,
+    pub(crate) at_start: bool,
+    pub(crate) missed: bool,
+    pub(crate) multiple: bool,
+}
+
+/// `(1 − t) a + t b`.
+fn lerp(a: [f64; 4], b: [f64; 4], t: f64) -> [f64; 4] {
+    std::array::from_fn(|i| (1.0 - t) * a[i] + t * b[i])
 }
 
 /// The smallest root of `sign · c` in [0, 1) and whether it is simple; `None` if it misses.
@@ -75,7 +136,9 @@ fn root(c: [f64; 4], sign: f64) -> Option<(f64, bool)> {
 
 /// Evaluates the ray from `q` to `apex` with shooting coefficients `c` (F along the ray) for
 /// the side `sign` (+1: F ≤ 0 at q, looking for F = 0 towards the apex where F > 0).
-fn shoot(q: DVec3, apex: DVec3, c: [f64; 4], sign: f64, grad: impl Fn(DVec3) -> DVec3) -> RayPoint {
+/// `grad(t)` is ∇F at the ray's point of parameter `t` (computed from the point's barycentric
+/// coordinates, which the caller knows exactly as a lerp of the ray's ends).
+fn shoot(q: DVec3, apex: DVec3, c: [f64; 4], sign: f64, grad: impl Fn(f64) -> DVec3) -> RayPoint {
     // |F(q)| within the rounding of its own evaluation (a few ε times the coefficients it is
     // combined from): the ray starts on the surface. Treating it as t = 0 keeps rays from a
     // mesh edge where F vanishes identical from every side.
@@ -83,7 +146,7 @@ fn shoot(q: DVec3, apex: DVec3, c: [f64; 4], sign: f64, grad: impl Fn(DVec3) -> 
     if c[0] == 0.0 || c[0].abs() <= 8.0 * f64::EPSILON * scale {
         return RayPoint {
             position: q,
-            normal: grad(q).normalize_or_zero(),
+            normal: grad(0.0).normalize_or_zero(),
             at_start: true,
             missed: false,
             multiple: false,
@@ -94,7 +157,7 @@ fn shoot(q: DVec3, apex: DVec3, c: [f64; 4], sign: f64, grad: impl Fn(DVec3) -> 
             let x = q + (apex - q) * t;
             RayPoint {
                 position: x,
-                normal: grad(x).normalize_or_zero(),
+                normal: grad(t).normalize_or_zero(),
                 at_start: t == 0.0,
                 missed: false,
                 multiple: !simple,
@@ -102,7 +165,7 @@ fn shoot(q: DVec3, apex: DVec3, c: [f64; 4], sign: f64, grad: impl Fn(DVec3) -> 
         }
         None => RayPoint {
             position: apex,
-            normal: grad(apex).normalize_or_zero(),
+            normal: grad(1.0).normalize_or_zero(),
             at_start: false,
             missed: true,
             multiple: false,
@@ -129,21 +192,22 @@ impl ApatchSurface {
                 let sign = if *side == Side::Positive { 1.0 } else { -1.0 };
                 let apex = cubic.tetrahedron().vertex(3);
                 let c = cubic.shooting_polynomial(alpha);
+                let a = [alpha[0], alpha[1], alpha[2], 0.0];
                 if sign * c[0] <= 0.0 {
-                    shoot(q, apex, c, sign, |x| cubic.value_gradient(x).1)
+                    let b = [0.0, 0.0, 0.0, 1.0];
+                    shoot(q, apex, c, sign, |t| cubic.gradient_at_tau(lerp(a, b, t)))
                 } else {
                     // (4.5): F(q) on the wrong side — the patch dips below the face; shoot
                     // backwards along the same line, towards 2q − apex. Along that ray the
                     // polynomial part restricts as usual and the rational term scales as
                     // (1 + s)³, whose Bernstein coefficients on [0, 1] are 2^k.
                     let back = [2.0 * alpha[0], 2.0 * alpha[1], 2.0 * alpha[2], -1.0];
-                    let poly = cubic
-                        .polynomial()
-                        .restrict_to_segment([alpha[0], alpha[1], alpha[2], 0.0], back);
-                    let r = c[0] - poly.coeffs()[0];
-                    let cb: [f64; 4] =
-                        std::array::from_fn(|k| poly.coeffs()[k] + r * (1u32 << k) as f64);
-                    shoot(q, q * 2.0 - apex, cb, -sign, |x| cubic.value_gradient(x).1)
+                    let poly = cubic.backward_polynomial(alpha);
+                    let r = c[0] - poly[0];
+                    let cb: [f64; 4] = std::array::from_fn(|k| poly[k] + r * (1u32 << k) as f64);
+                    shoot(q, q * 2.0 - apex, cb, -sign, |t| {
+                        cubic.gradient_at_tau(lerp(a, back, t))
+                    })
                 }
             }
             FaceFunction::Split(split) => {
@@ -160,19 +224,20 @@ impl ApatchSurface {
                 ];
                 // (4.6): towards u where F(q) ≤ 0, else towards v. The side is decided by the
                 // same b_0 = F(q) the ray uses, so rounding cannot send a ray the wrong way.
-                let ray = |s: usize| {
-                    let c = split.sides[s].polys[a].restrict_to_segment(tau, [0.0, 0.0, 0.0, 1.0]);
-                    [c.coeffs()[0], c.coeffs()[1], c.coeffs()[2], c.coeffs()[3]]
-                };
+                let apex = [0.0, 0.0, 0.0, 1.0];
+                let coeffs = [0, 1].map(|s| cubic::coeffs_of(&split.sides[s].polys[a]));
+                let ray = |s: usize| cubic::segment(&coeffs[s], tau, apex);
                 let c_up = ray(0);
                 let (s, sign, c) = if c_up[0] <= 0.0 {
                     (0, 1.0, c_up)
                 } else {
                     (1, -1.0, ray(1))
                 };
-                let poly = &split.sides[s].polys[a];
                 let tet = &split.sides[s].tets[a];
-                shoot(q, tet.vertex(3), c, sign, |x| poly.gradient_at(tet, x))
+                shoot(q, tet.vertex(3), c, sign, |t| {
+                    let (_, dp) = cubic::value_partials(&coeffs[s], lerp(tau, apex, t));
+                    gradient_from_partials(tet, dp, [0.0; 4])
+                })
             }
         }
     }
@@ -202,7 +267,8 @@ impl ApatchSurface {
         };
         let t = cubic.tetrahedron();
         let target = t.vertex(3) * y + t.vertex(0) * (1.0 - y);
-        shoot(q, target, c, sign, |p| cubic.value_gradient(p).1)
+        let (a, b) = EdgeCubic::ray_ends(x, y);
+        shoot(q, target, c, sign, |t| cubic.gradient_at_tau(lerp(a, b, t)))
     }
 
     /// Triangulates the surface: face patches at resolution `n` (n + 1 points per edge), edge
@@ -215,34 +281,15 @@ impl ApatchSurface {
         }
         let mesh = self.hull().mesh();
         let nf = mesh.face_count();
-        let topo = mesh.topology();
-        // Face grids: all points (a, b, c), a + b + c = n, in a fixed order.
-        let grid: Vec<[usize; 3]> = (0..=n)
-            .rev()
-            .flat_map(|a| (0..=(n - a)).rev().map(move |b| [a, b, n - a - b]))
-            .collect();
+        let ne = self.edges().len();
+        let grid = face_grid(n);
         let face_points: Vec<Vec<RayPoint>> = (0..nf)
             .into_par_iter()
-            .map(|f| {
-                grid.iter()
-                    .map(|g| self.face_ray(f, g.map(|k| k as f64 / n as f64)))
-                    .collect()
-            })
+            .map(|f| self.face_rays(f, &grid, n))
             .collect();
-        let edge_points: Vec<Vec<RayPoint>> = (0..self.edges().len())
+        let edge_points: Vec<Vec<RayPoint>> = (0..ne)
             .into_par_iter()
-            .map(|e| {
-                if self.edges()[e][0].is_none() && self.edges()[e][1].is_none() {
-                    return Vec::new();
-                }
-                let mut v = Vec::with_capacity((n - 1) * (m - 1));
-                for i in 1..n {
-                    for j in 1..m {
-                        v.push(self.edge_ray(e, i as f64 / n as f64, j as f64 / m as f64));
-                    }
-                }
-                v
-            })
+            .map(|e| self.edge_rays(e, n, m))
             .collect();
 
         let mut out = Tessellation::default();
@@ -251,131 +298,122 @@ impl ApatchSurface {
             out.normals
                 .push(self.hull().normals()[v].normalize_or_zero());
         }
-        let mut on_edge: HashMap<(u32, usize), u32> = HashMap::new();
-        let push = |out: &mut Tessellation, r: &RayPoint, patch: u32| -> u32 {
-            if r.missed {
-                out.missed_rays.push((patch, r.position));
-            }
-            if r.multiple {
-                out.multiple_roots.push((patch, r.position));
-            }
-            out.positions.push(r.position);
-            out.normals.push(r.normal);
-            (out.positions.len() - 1) as u32
+        let nv = out.positions.len();
+        let mut layout = TessellationLayout {
+            n,
+            m,
+            face_ids: Vec::with_capacity(nf * grid.len()),
+            edge_ids: vec![u32::MAX; ne * (n - 1) * (m - 1)],
+            owner: vec![u32::MAX; nv],
+            flags: vec![0; nv],
         };
-        // Rows along mesh edges, keyed by (face, edge, s) with s counted from the edge's first
-        // vertex; rays that stay on the mesh edge are shared through `on_edge`.
-        let mut face_row: HashMap<(u32, u32, usize), u32> = HashMap::new();
-        let mut face_ids: Vec<Vec<u32>> = Vec::with_capacity(nf);
+        let edges_of = self.face_edges();
+        // Rays that stay on a mesh edge (t = 0), shared by every patch: (edge, s) with s counted
+        // from the edge's first vertex. `u32::MAX`: not created yet.
+        let mut on_edge = vec![u32::MAX; ne * (n + 1)];
+        // Rows of face patches along mesh edges that leave the edge: (face, local edge, s).
+        let mut face_row = vec![u32::MAX; nf * 3 * (n + 1)];
         for f in 0..nf {
             let tri = mesh.triangles()[f];
-            let mut ids = Vec::with_capacity(grid.len());
             for (g, r) in grid.iter().zip(&face_points[f]) {
-                let zeros = g.iter().filter(|&&k| k == 0).count();
-                let id = if zeros == 2 {
-                    // A mesh vertex.
-                    tri[(0..3).find(|&k| g[k] == n).expect("corner")]
-                } else if zeros == 1 {
-                    let z = (0..3).find(|&k| g[k] == 0).expect("edge");
-                    let (va, vb) = (tri[(z + 1) % 3], tri[(z + 2) % 3]);
-                    let e = topo.find_edge(va, vb).expect("face edge");
-                    let [e0, _] = self.hull().edges()[e as usize].vertices;
-                    // Position along the edge from e0 (weight of the other vertex).
-                    let wa = g[(z + 1) % 3];
-                    let s = if va == e0 { n - wa } else { wa };
-                    if r.at_start {
-                        *on_edge
-                            .entry((e, s))
-                            .or_insert_with(|| push(&mut out, r, f as u32))
-                    } else {
-                        let id = push(&mut out, r, f as u32);
-                        face_row.insert((f as u32, e, s), id);
-                        id
+                let id = match grid_point(g, n) {
+                    GridPoint::Corner(k) => tri[k],
+                    GridPoint::Edge(z) => {
+                        let e = edges_of[f][z];
+                        let s = self.edge_position(e, tri, z, g, n);
+                        if r.at_start {
+                            shared(&mut on_edge[e * (n + 1) + s], &mut out, &mut layout, r, f)
+                        } else {
+                            let id = out.push(&mut layout, r, f as u32);
+                            face_row[(f * 3 + z) * (n + 1) + s] = id;
+                            id
+                        }
                     }
-                } else {
-                    push(&mut out, r, f as u32)
+                    GridPoint::Interior => out.push(&mut layout, r, f as u32),
                 };
-                ids.push(id);
+                layout.face_ids.push(id);
             }
-            face_ids.push(ids);
         }
+        let per_face = grid.len();
         // Face patch triangles.
-        let index = |a: usize, b: usize| -> usize {
-            // Position of (a, b, n − a − b) in `grid`: rows of decreasing a, within a row
-            // decreasing b.
-            let before: usize = (a + 1..=n).map(|x| n - x + 1).sum();
-            before + (n - a - b)
-        };
         for f in 0..nf {
             let kind = if matches!(self.faces()[f], FaceFunction::Planar) {
                 PatchKind::Planar
             } else {
                 PatchKind::Face
             };
-            let ids = &face_ids[f];
+            let ids = &layout.face_ids[f * per_face..(f + 1) * per_face];
             for a in 0..n {
                 for b in 0..(n - a) {
                     // Upward triangle (a+1,b,c) (a,b+1,c) (a,b,c+1), then the downward one.
-                    let t1 = [ids[index(a + 1, b)], ids[index(a, b + 1)], ids[index(a, b)]];
-                    out.triangles.push(t1);
-                    out.triangle_patch.push(f as u32);
-                    out.triangle_kind.push(kind);
+                    let t1 = [
+                        ids[grid_index(n, a + 1, b)],
+                        ids[grid_index(n, a, b + 1)],
+                        ids[grid_index(n, a, b)],
+                    ];
+                    out.push_triangle(t1, f as u32, kind);
                     if a + b + 2 <= n {
                         let t2 = [
-                            ids[index(a + 1, b)],
-                            ids[index(a + 1, b + 1)],
-                            ids[index(a, b + 1)],
+                            ids[grid_index(n, a + 1, b)],
+                            ids[grid_index(n, a + 1, b + 1)],
+                            ids[grid_index(n, a, b + 1)],
                         ];
-                        out.triangles.push(t2);
-                        out.triangle_patch.push(f as u32);
-                        out.triangle_kind.push(kind);
+                        out.push_triangle(t2, f as u32, kind);
                     }
                 }
             }
         }
         // Edge patches.
+        let inner = (n - 1) * (m - 1);
         for (e, he) in self.hull().edges().iter().enumerate() {
             if edge_points[e].is_empty() {
                 continue;
             }
-            let patch = (nf + e) as u32;
-            let fl = he.face_l.expect("edge patches are interior");
+            let patch = nf + e;
+            let fl = he.face_l.expect("edge patches are interior") as usize;
             let [vi, vj] = he.vertices;
+            let local = |f: usize| (0..3).find(|&z| edges_of[f][z] == e).expect("face edge");
+            let (zk, zl) = (local(he.face_k as usize), local(fl));
             // Grid id at (i, j): i along the edge (x = i/n, x = 1 at p_i), j across (y = j/m,
             // y = 1 at the k side).
-            let id_at = |out: &mut Tessellation,
-                         on_edge: &mut HashMap<(u32, usize), u32>,
-                         i: usize,
-                         j: usize|
-             -> u32 {
-                if i == 0 {
-                    return vj;
-                }
-                if i == n {
-                    return vi;
-                }
-                let s = n - i; // from e0 = vi
-                if j == 0 || j == m {
-                    let f = if j == m { he.face_k } else { fl };
-                    if let Some(&id) = face_row.get(&(f, e as u32, s)) {
-                        return id;
-                    }
-                    return *on_edge
-                        .get(&(e as u32, s))
-                        .expect("boundary ray of a face patch");
-                }
-                let r = &edge_points[e][(i - 1) * (m - 1) + (j - 1)];
-                if r.at_start {
-                    return *on_edge
-                        .entry((e as u32, s))
-                        .or_insert_with(|| push(out, r, patch));
-                }
-                push(out, r, patch)
-            };
             let mut ids = vec![0u32; (n + 1) * (m + 1)];
             for i in 0..=n {
                 for j in 0..=m {
-                    ids[i * (m + 1) + j] = id_at(&mut out, &mut on_edge, i, j);
+                    let s = n - i; // from e0 = vi
+                    ids[i * (m + 1) + j] = if i == 0 {
+                        vj
+                    } else if i == n {
+                        vi
+                    } else if j == 0 || j == m {
+                        let (f, z) = if j == m {
+                            (he.face_k as usize, zk)
+                        } else {
+                            (fl, zl)
+                        };
+                        match face_row[(f * 3 + z) * (n + 1) + s] {
+                            u32::MAX => {
+                                let id = on_edge[e * (n + 1) + s];
+                                debug_assert_ne!(id, u32::MAX, "boundary ray of a face patch");
+                                id
+                            }
+                            id => id,
+                        }
+                    } else {
+                        let r = &edge_points[e][(i - 1) * (m - 1) + (j - 1)];
+                        let id = if r.at_start {
+                            shared(
+                                &mut on_edge[e * (n + 1) + s],
+                                &mut out,
+                                &mut layout,
+                                r,
+                                patch,
+                            )
+                        } else {
+                            out.push(&mut layout, r, patch as u32)
+                        };
+                        layout.edge_ids[e * inner + (i - 1) * (m - 1) + (j - 1)] = id;
+                        id
+                    };
                 }
             }
             for i in 0..n {
@@ -386,14 +424,107 @@ impl ApatchSurface {
                     let d = ids[i * (m + 1) + j + 1];
                     for t in [[a, c, b], [a, d, c]] {
                         if t[0] != t[1] && t[1] != t[2] && t[0] != t[2] {
-                            out.triangles.push(t);
-                            out.triangle_patch.push(patch);
-                            out.triangle_kind.push(PatchKind::Edge);
+                            out.push_triangle(t, patch as u32, PatchKind::Edge);
                         }
                     }
                 }
             }
         }
+        out.layout = Some(layout);
         Ok(out)
     }
+
+    /// The rays of face `f` at every point of `grid` (level `n`).
+    pub(crate) fn face_rays(&self, f: usize, grid: &[[usize; 3]], n: usize) -> Vec<RayPoint> {
+        grid.iter()
+            .map(|g| self.face_ray(f, g.map(|k| k as f64 / n as f64)))
+            .collect()
+    }
+
+    /// The interior rays of edge `e`'s patch, `(i, j)` for `i < n`, `j < m`, row-major; empty
+    /// when the edge has no edge tetrahedra.
+    pub(crate) fn edge_rays(&self, e: usize, n: usize, m: usize) -> Vec<RayPoint> {
+        if self.edges()[e][0].is_none() && self.edges()[e][1].is_none() {
+            return Vec::new();
+        }
+        let mut v = Vec::with_capacity((n - 1) * (m - 1));
+        for i in 1..n {
+            for j in 1..m {
+                v.push(self.edge_ray(e, i as f64 / n as f64, j as f64 / m as f64));
+            }
+        }
+        v
+    }
+
+    /// Hull edge of each face's local edge `z` (opposite vertex `z`).
+    pub(crate) fn face_edges(&self) -> Vec<[usize; 3]> {
+        let mesh = self.hull().mesh();
+        let topo = mesh.topology();
+        mesh.triangles()
+            .iter()
+            .map(|tri| {
+                std::array::from_fn(|z| {
+                    topo.find_edge(tri[(z + 1) % 3], tri[(z + 2) % 3])
+                        .expect("face edge") as usize
+                })
+            })
+            .collect()
+    }
+
+    /// Position `s` along hull edge `e` (from its first vertex) of the grid point `g` on the
+    /// face edge opposite local vertex `z` of `tri`.
+    fn edge_position(&self, e: usize, tri: [u32; 3], z: usize, g: &[usize; 3], n: usize) -> usize {
+        let [e0, _] = self.hull().edges()[e].vertices;
+        // Weight of the edge's other vertex.
+        let wa = g[(z + 1) % 3];
+        if tri[(z + 1) % 3] == e0 { n - wa } else { wa }
+    }
+}
+
+/// Where a face grid point lies.
+pub(crate) enum GridPoint {
+    /// At local vertex `k`.
+    Corner(usize),
+    /// On the face edge opposite local vertex `z`.
+    Edge(usize),
+    /// Inside the face.
+    Interior,
+}
+
+pub(crate) fn grid_point(g: &[usize; 3], n: usize) -> GridPoint {
+    match g.iter().filter(|&&k| k == 0).count() {
+        2 => GridPoint::Corner((0..3).find(|&k| g[k] == n).expect("corner")),
+        1 => GridPoint::Edge((0..3).find(|&k| g[k] == 0).expect("edge")),
+        _ => GridPoint::Interior,
+    }
+}
+
+/// Face grids: all points (a, b, c), a + b + c = n, rows of decreasing a, within a row
+/// decreasing b.
+pub(crate) fn face_grid(n: usize) -> Vec<[usize; 3]> {
+    (0..=n)
+        .rev()
+        .flat_map(|a| (0..=(n - a)).rev().map(move |b| [a, b, n - a - b]))
+        .collect()
+}
+
+/// Position of (a, b, n − a − b) in [`face_grid`].
+fn grid_index(n: usize, a: usize, b: usize) -> usize {
+    // Rows a' = n … a + 1 hold n − a' + 1 points each: Σ_{k=1}^{n−a} k.
+    let before = (n - a) * (n - a + 1) / 2;
+    before + (n - a - b)
+}
+
+/// The id of a shared (t = 0) point, created by the first patch that reaches it.
+fn shared(
+    slot: &mut u32,
+    out: &mut Tessellation,
+    layout: &mut TessellationLayout,
+    r: &RayPoint,
+    patch: usize,
+) -> u32 {
+    if *slot == u32::MAX {
+        *slot = out.push(layout, r, patch as u32);
+    }
+    *slot
 }

@@ -306,12 +306,18 @@ impl<C: Coeff, const N: usize> BbPoly<C, N> {
     /// `vertices[k]` with respect to this one: `c_μ = b[w_0^{μ_0}, …, w_{N−1}^{μ_{N−1}}]`.
     /// Subdivision, facet continuation and the midpoint split are special cases.
     pub fn reparametrize(&self, vertices: &[[f64; N]; N]) -> Self {
+        // One scratch buffer and argument list for all coefficients (this runs per cell of
+        // the subdivisions of `sheet::certified_triangle_b_min`).
+        let mut args = Vec::with_capacity(self.degree);
+        let mut buf = self.coeffs.clone();
         BbPoly::from_fn(self.degree, |mu| {
-            let mut args = Vec::with_capacity(self.degree);
+            args.clear();
             for (k, &m) in mu.iter().enumerate() {
                 args.extend(std::iter::repeat_n(vertices[k], m));
             }
-            Self::reduce(self.coeffs.clone(), self.degree, &args)[0]
+            buf.copy_from_slice(&self.coeffs);
+            Self::reduce_slice(&mut buf, self.degree, args.len(), |k| args[k]);
+            buf[0]
         })
     }
 

@@ -245,3 +245,192 @@ pub fn j_patch_level(f: &BbPoly<f64, 4>, j: usize) -> Result<Option<usize>, BbEr
     }
     Ok(None)
 }
+
+/// The result of [`certified_triangle_b_min`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TriangleBound {
+    /// Guaranteed upper bound of `b_min^(1)(q)` over every point `q` of the triangle with
+    /// `b_0(q) < 0` (`−∞` when `b_0 ≥ 0` on the whole triangle).
+    pub upper: f64,
+    /// The largest `b_min^(1)` found at sample points (cell centroids): a lower bound of the
+    /// true maximum, so the true maximum lies in `[sampled, upper]`.
+    pub sampled: f64,
+    /// Cells the triangle was subdivided into.
+    pub cells: usize,
+}
+
+/// A cell of the subdivision: its corners in the triangle's barycentrics and the upper bound.
+struct Cell {
+    upper: f64,
+    corners: [[f64; 3]; 3],
+}
+
+impl PartialEq for Cell {
+    fn eq(&self, other: &Self) -> bool {
+        self.upper.total_cmp(&other.upper).is_eq()
+    }
+}
+impl Eq for Cell {}
+impl PartialOrd for Cell {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+impl Ord for Cell {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        self.upper.total_cmp(&other.upper)
+    }
+}
+
+/// Rank of `(l0, l1, ·)` among the 3-indices of degree `m` in the storage order of
+/// [`multi_index`] (λ_0 decreasing, then λ_1).
+#[inline]
+fn rank3(l0: usize, l1: usize, m: usize) -> usize {
+    (m - l0) * (m - l0 + 1) / 2 + (m - l0 - l1)
+}
+
+/// Blossom of a triangular BB polynomial of degree `d ≤ 3` (coefficients `c`) at `args`
+/// (`d` of them): de Casteljau in place on a stack buffer. In place is safe because step
+/// `r` reads `λ + e_0` (rank `r` itself) and `λ + e_1`, `λ + e_2` (ranks above `r`) only.
+fn tri_blossom(c: &[f64], d: usize, args: &[[f64; 3]]) -> f64 {
+    let mut buf = [0.0; 10];
+    buf[..c.len()].copy_from_slice(c);
+    let mut m = d;
+    for a in args {
+        let mut r = 0;
+        for l0 in (0..m).rev() {
+            for l1 in (0..m - l0).rev() {
+                buf[r] =
+                    a[0] * buf[r] + a[1] * buf[rank3(l0, l1 + 1, m)] + a[2] * buf[rank3(l0, l1, m)];
+                r += 1;
+            }
+        }
+        m -= 1;
+    }
+    buf[0]
+}
+
+/// Least BB coefficient of each layer over the sub-triangle with `corners`: each coefficient
+/// is the blossom of the layer at the corners (repeated as its multi-index says).
+fn cell_minima(layers: &[BbPoly<f64, 3>; 4], corners: &[[f64; 3]; 3]) -> [f64; 4] {
+    std::array::from_fn(|k| {
+        let d = layers[k].degree();
+        let mut least = f64::INFINITY;
+        let mut args = [[0.0; 3]; 3];
+        for mu in multi_index::iter::<3>(d) {
+            let mut n = 0;
+            for (v, &times) in mu.iter().enumerate() {
+                for _ in 0..times {
+                    args[n] = corners[v];
+                    n += 1;
+                }
+            }
+            least = least.min(tri_blossom(layers[k].coeffs(), d, &args[..d]));
+        }
+        least
+    })
+}
+
+/// Upper bound of `b_min^(1)` over a cell from the least coefficients `m` of its layers.
+///
+/// Why it is an upper bound: by the convex-hull property each layer `B_k(q)` is at least its
+/// least BB coefficient `m_k` on the cell. `b_min^(1) = min_t max{−3F_2(t)/t², −F_3(t)/t²}`
+/// (β = 1) with `F_j(t) = Σ_{i≤j} b_i B_i^j(t)`, and for `t ∈ (0, 1]` every `B_i^j(t) ≥ 0`,
+/// so both terms, their maximum and its minimum over t are non-increasing in every `b_i`:
+/// `b_min^(1)(B(q)) ≤ b_min^(1)(m)` for every `q` in the cell. ([`lemma_2_3_b_min`] rounds
+/// upwards, so the computed value is at least the exact one.) `b_min^(2)` is *not* monotone
+/// (its feasible set `F_1 ≤ 0` grows as the coefficients fall), which is why the certified
+/// bound is on `b_min^(1)`: any `b > b_min^(1)` satisfies Lemma 2.3 on its own.
+fn cell_upper(m: [f64; 4]) -> f64 {
+    if m[0] >= 0.0 {
+        // b_0 ≥ 0 on the whole cell: every ray starts on or beyond the surface (t = 0).
+        return f64::NEG_INFINITY;
+    }
+    match lemma_2_3_b_min(m, 1.0) {
+        Ok(b) => b.b_min_1,
+        // Only non-finite coefficients get here (b_0 < 0 and β = 1 are checked): no bound.
+        Err(_) => f64::INFINITY,
+    }
+}
+
+/// Certified maximum over a triangle of the Lemma 2.3 bound `b_min^(1)` of the shooting
+/// polynomials `Σ_k B_k(q) B_k^3(t)` (β = 1, the lift `b t²` of an apex value), given the four
+/// layer polynomials `B_k` (degrees 3, 2, 1, 0) in BB form over the triangle: Step 6 of §4.2 of
+/// Xu–Huang–Bajaj 2001 "computed with a guaranteed bound". Where the true coefficients at a
+/// point differ from the polynomial layers (a rational term), pass layers whose coefficients
+/// are lower bounds of the true ones (the bound stays valid, see `cell_upper`) and let
+/// `sample(q)` return the true coefficients at `q`.
+///
+/// Branch and bound: the cell with the largest upper bound is split at its edge midpoints
+/// (BB subdivision, exact up to rounding) until that largest upper bound is within `gap` of the
+/// largest sampled value (`upper − sampled ≤ gap`), or `max_cells` cells exist; either way
+/// `upper` bounds `b_min^(1)` at every point of the triangle, and when the gap closed it is
+/// within `gap` of the true maximum.
+pub fn certified_triangle_b_min(
+    layers: [BbPoly<f64, 3>; 4],
+    sample: impl Fn([f64; 3]) -> [f64; 4],
+    gap: f64,
+    max_cells: usize,
+) -> TriangleBound {
+    let eval_sample = |q: [f64; 3]| {
+        let b = sample(q);
+        if b[0] < 0.0 {
+            lemma_2_3_b_min(b, 1.0).map_or(f64::NEG_INFINITY, |x| x.b_min_1)
+        } else {
+            f64::NEG_INFINITY
+        }
+    };
+    let centroid = |c: &[[f64; 3]; 3]| {
+        std::array::from_fn::<f64, 3, _>(|i| (c[0][i] + c[1][i] + c[2][i]) / 3.0)
+    };
+    if layers.iter().enumerate().any(|(k, l)| l.degree() != 3 - k) {
+        // Layers of a cubic have degrees 3, 2, 1, 0; anything else has no bound here.
+        return TriangleBound {
+            upper: f64::INFINITY,
+            sampled: f64::NEG_INFINITY,
+            cells: 0,
+        };
+    }
+    let whole = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    let root = Cell {
+        upper: cell_upper(cell_minima(&layers, &whole)),
+        corners: whole,
+    };
+    let mut sampled = eval_sample(centroid(&root.corners));
+    let mut cells = 1;
+    let mut heap = std::collections::BinaryHeap::new();
+    if root.upper > f64::NEG_INFINITY {
+        heap.push(root);
+    }
+    while let Some(top) = heap.peek() {
+        if top.upper - sampled <= gap || cells + 3 > max_cells {
+            break;
+        }
+        let c = heap.pop().expect("peeked").corners;
+        let mid = |a: usize, b: usize| std::array::from_fn(|i| 0.5 * (c[a][i] + c[b][i]));
+        let (m01, m02, m12) = (mid(0, 1), mid(0, 2), mid(1, 2));
+        // The midpoint 4-split (the corner order of `BbPoly::midpoint_split`).
+        let children = [
+            [c[0], m01, m02],
+            [m01, c[1], m12],
+            [m02, m12, c[2]],
+            [m12, m02, m01],
+        ];
+        for corners in children {
+            sampled = sampled.max(eval_sample(centroid(&corners)));
+            let upper = cell_upper(cell_minima(&layers, &corners));
+            if upper > f64::NEG_INFINITY {
+                heap.push(Cell { upper, corners });
+            }
+        }
+        cells += 3;
+    }
+    TriangleBound {
+        upper: heap
+            .peek()
+            .map_or(f64::NEG_INFINITY, |c| c.upper)
+            .max(sampled),
+        sampled,
+        cells,
+    }
+}

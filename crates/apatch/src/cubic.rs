@@ -1,0 +1,228 @@
+//! Fixed-size kernels for trivariate cubics in BB form (20 coefficients in the storage order of
+//! [`algesurf_bb::multi_index`]): blossoms, shooting polynomials and gradients without
+//! allocation.
+//!
+//! Everything here is the blossom (polar form) `b[a, b, c]` of the cubic, computed by three
+//! de Casteljau steps on fixed arrays (de Casteljau's algorithm *is* the blossom evaluated at
+//! repeated arguments; Farin, "Curves and Surfaces for CAGD", §3 and §18):
+//!
+//! * the shooting polynomial (4.8)/(4.9) along the segment from `a` to `b` has Bernstein
+//!   coefficients `b_k = b[a^{3−k}, b^k]`, k = 0..3;
+//! * the formal partials are `∂F/∂τ_i = 3 b[τ, τ, e_i]`;
+//! * a coefficient of the cubic continued onto another tetrahedron is the blossom at that
+//!   tetrahedron's vertices (Lemma 2.2), a linear form in the 20 coefficients whose weights are
+//!   [`blossom_weights`].
+//!
+//! These replace [`algesurf_bb::BbPoly::restrict_to_segment`] / `blossom` /
+//! `directional_derivative` on the hot paths (one call per ray of the tessellation and of the
+//! Step 6 bounds); they compute the same multilinear forms with the same kind of convex-
+//! combination arithmetic, so they agree with those to rounding (tested below).
+
+/// Rank of a 4-index of degree `n` in reverse lexicographic order (λ_0 decreasing, then λ_1, …).
+const fn rank(l: [usize; 4], n: usize) -> usize {
+    let mut r = 0;
+    let mut a = n;
+    // Count the indices before `l`: those with a larger λ_0, then equal λ_0 and larger λ_1, …
+    while a > l[0] {
+        let rest = n - a;
+        r += (rest + 1) * (rest + 2) / 2;
+        a -= 1;
+    }
+    let rest = n - l[0];
+    let mut b = rest;
+    while b > l[1] {
+        r += rest - b + 1;
+        b -= 1;
+    }
+    r + (rest - l[1] - l[2])
+}
+
+/// `UP[r][i]`: rank in degree `n` of `unrank_{n−1}(r) + e_i`.
+const fn up_table<const M: usize>(n: usize) -> [[usize; 4]; M] {
+    let mut t = [[0usize; 4]; M];
+    let d = n - 1;
+    let mut a = d as isize;
+    while a >= 0 {
+        let mut b = (d as isize) - a;
+        while b >= 0 {
+            let mut c = (d as isize) - a - b;
+            while c >= 0 {
+                let l = [a as usize, b as usize, c as usize, d - (a + b + c) as usize];
+                let r = rank(l, d);
+                let mut i = 0;
+                while i < 4 {
+                    let mut k = l;
+                    k[i] += 1;
+                    t[r][i] = rank(k, n);
+                    i += 1;
+                }
+                c -= 1;
+            }
+            b -= 1;
+        }
+        a -= 1;
+    }
+    t
+}
+
+const UP3: [[usize; 4]; 10] = up_table::<10>(3);
+const UP2: [[usize; 4]; 4] = up_table::<4>(2);
+
+/// The 20 BB coefficients of a cubic on a tetrahedron.
+pub(crate) type Coeffs = [f64; 20];
+
+/// The coefficients of a `BbPoly` of degree 3 in four variables as a fixed array.
+pub(crate) fn coeffs_of(poly: &algesurf_bb::BbPoly<f64, 4>) -> Coeffs {
+    poly.coeffs()
+        .try_into()
+        .expect("a trivariate cubic has 20 coefficients")
+}
+
+#[inline]
+fn step3(c: &Coeffs, a: [f64; 4]) -> [f64; 10] {
+    std::array::from_fn(|r| {
+        let u = UP3[r];
+        a[0] * c[u[0]] + a[1] * c[u[1]] + a[2] * c[u[2]] + a[3] * c[u[3]]
+    })
+}
+
+#[inline]
+fn step2(c: &[f64; 10], a: [f64; 4]) -> [f64; 4] {
+    std::array::from_fn(|r| {
+        let u = UP2[r];
+        a[0] * c[u[0]] + a[1] * c[u[1]] + a[2] * c[u[2]] + a[3] * c[u[3]]
+    })
+}
+
+#[inline]
+fn dot(c: [f64; 4], a: [f64; 4]) -> f64 {
+    a[0] * c[0] + a[1] * c[1] + a[2] * c[2] + a[3] * c[3]
+}
+
+/// The blossom `b[a, b, c]` of the cubic.
+pub(crate) fn blossom(c: &Coeffs, a: [f64; 4], b: [f64; 4], d: [f64; 4]) -> f64 {
+    dot(step2(&step3(c, a), b), d)
+}
+
+/// Bernstein coefficients `b_k = b[a^{3−k}, b^k]` of the cubic restricted to the segment from
+/// `a` to `b` (barycentric points): the shooting polynomial of (4.8)/(4.9).
+pub(crate) fn segment(c: &Coeffs, a: [f64; 4], b: [f64; 4]) -> [f64; 4] {
+    let ca = step3(c, a);
+    let cb = step3(c, b);
+    let caa = step2(&ca, a);
+    let cbb = step2(&cb, b);
+    [dot(caa, a), dot(caa, b), dot(cbb, a), dot(cbb, b)]
+}
+
+/// Value and formal partials `∂F/∂τ_i = 3 b[τ, τ, e_i]` at `tau`.
+pub(crate) fn value_partials(c: &Coeffs, tau: [f64; 4]) -> (f64, [f64; 4]) {
+    let c1 = step2(&step3(c, tau), tau);
+    (dot(c1, tau), c1.map(|x| 3.0 * x))
+}
+
+/// Weights `w` with `b[a, b, d] = Σ_μ w[rank μ] c_μ` for every cubic `c`: the blossom of each
+/// Bernstein basis polynomial, `Σ a_i b_j d_k` over the ordered triples with `e_i + e_j + e_k = μ`
+/// (the polar form of `B_μ = 3!/μ! τ^μ` is `μ!/3!` times that sum, and the factors cancel).
+pub(crate) fn blossom_weights(a: [f64; 4], b: [f64; 4], d: [f64; 4]) -> Coeffs {
+    let mut w = [0.0; 20];
+    for i in 0..4 {
+        for j in 0..4 {
+            let ab = a[i] * b[j];
+            if ab == 0.0 {
+                continue;
+            }
+            for k in 0..4 {
+                let mut l = [0usize; 4];
+                l[i] += 1;
+                l[j] += 1;
+                l[k] += 1;
+                w[rank(l, 3)] += ab * d[k];
+            }
+        }
+    }
+    w
+}
+
+/// The three blossom arguments of the coefficient `lambda`: `verts[s]` repeated `lambda[s]`
+/// times.
+pub(crate) fn blossom_args(verts: &[[f64; 4]; 4], lambda: [usize; 4]) -> [[f64; 4]; 3] {
+    let mut args = [[0.0; 4]; 3];
+    let mut n = 0;
+    for (s, &l) in lambda.iter().enumerate() {
+        for _ in 0..l {
+            args[n] = verts[s];
+            n += 1;
+        }
+    }
+    debug_assert_eq!(n, 3, "a cubic coefficient has three blossom arguments");
+    args
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use algesurf_bb::{BbPoly, multi_index};
+
+    fn sample() -> BbPoly<f64, 4> {
+        BbPoly::from_fn(3, |l| {
+            (l[0] as f64 * 1.3 - l[1] as f64 * 0.7 + (l[2] * l[3]) as f64 * 0.4 + 0.1).sin()
+        })
+    }
+
+    #[test]
+    fn ranks_match_the_storage_order_of_multi_index() {
+        for n in 0..=3 {
+            for (r, l) in multi_index::iter::<4>(n).enumerate() {
+                assert_eq!(rank(l, n), r, "{l:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn segment_equals_restrict_to_segment_to_rounding() {
+        let p = sample();
+        let c = coeffs_of(&p);
+        let a = [0.2, 0.5, 0.3, 0.0];
+        let b = [0.6, -0.1, 0.0, 0.5];
+        let want = p.restrict_to_segment(a, b);
+        let got = segment(&c, a, b);
+        for k in 0..4 {
+            assert!((got[k] - want.coeffs()[k]).abs() < 1e-14, "b_{k}");
+        }
+    }
+
+    #[test]
+    fn blossom_weights_reproduce_the_blossom_and_the_directional_derivative() {
+        let p = sample();
+        let c = coeffs_of(&p);
+        let (a, b, d) = (
+            [0.1, 0.2, 0.3, 0.4],
+            [1.0, 0.0, 0.0, 0.0],
+            [-0.5, 0.7, 0.3, 0.5],
+        );
+        let w = blossom_weights(a, b, d);
+        let via_w: f64 = w.iter().zip(&c).map(|(w, c)| w * c).sum();
+        let want = p.blossom(&[a, b, d]).unwrap();
+        assert!((via_w - want).abs() < 1e-14);
+        assert!((blossom(&c, a, b, d) - want).abs() < 1e-14);
+        // D_d F(m) = 3 b[d, m, m].
+        let m = [0.25, 0.25, 0.5, 0.0];
+        let w = blossom_weights(d, m, m).map(|x| 3.0 * x);
+        let via_w: f64 = w.iter().zip(&c).map(|(w, c)| w * c).sum();
+        assert!((via_w - p.directional_derivative(m, &[d])).abs() < 1e-13);
+    }
+
+    #[test]
+    fn partials_are_the_derivatives_along_the_vertex_directions() {
+        let p = sample();
+        let c = coeffs_of(&p);
+        let tau = [0.1, 0.2, 0.3, 0.4];
+        let (v, g) = value_partials(&c, tau);
+        assert!((v - p.eval(tau)).abs() < 1e-14);
+        for i in 0..4 {
+            let mut e = [0.0; 4];
+            e[i] = 1.0;
+            assert!((g[i] - p.directional_derivative(tau, &[e])).abs() < 1e-13);
+        }
+    }
+}
