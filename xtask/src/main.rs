@@ -9,8 +9,10 @@
 //! * `bench smooth [--mesh PATH] [--no-divan]`: the `smooth` divan benchmarks, then the bunny
 //!   (or PATH) smoothed by the release `algesurf smooth` and timed against libigl's Loop
 //!   subdivision in the same run (see [`bench_peers`]).
+//! * `figures`: regenerates the paper's figures into `docs/figures/` (see [`figures`]).
 
 mod bench_peers;
+mod figures;
 mod interop;
 
 use sha2::{Digest, Sha256};
@@ -126,9 +128,10 @@ fn main() -> ExitCode {
         Some("interop") => interop::run_all(),
         Some("dist") => dist(),
         Some("bench") => bench(&args[1..]),
+        Some("figures") => figures::run(&root()).map_err(|e| e.to_string()),
         _ => {
             eprintln!(
-                "usage: cargo xtask <ci | interop | dist | bench [bb|roots|smooth [--mesh PATH] [--no-divan]]>"
+                "usage: cargo xtask <ci | interop | dist | figures | bench [bb|roots|smooth [--mesh PATH] [--no-divan]]>"
             );
             return ExitCode::from(2);
         }
