@@ -33,7 +33,7 @@ pub use retessellate::Retessellation;
 pub use split::{SplitFace, SplitSide};
 pub use surface::{
     ApatchSurface, ConstructionTimings, FaceFunction, FreeParameter, FreeParameterRule,
-    SurfaceOptions,
+    GradientMagnitudes, SurfaceOptions,
 };
 pub use tessellate::{PatchKind, Tessellation, TessellationLayout};
 pub use verify::{ContinuityReport, InterpolationReport, Owner, Piece, PieceFunction, Worst};

@@ -41,6 +41,29 @@ pub struct SurfaceOptions {
     /// [`algesurf_mesh::DEFAULT_MIN_NORMAL_COSINE`]). Default `true`; the changed vertices are listed by
     /// [`ApatchSurface::adjusted_normals`].
     pub condition_normals: bool,
+    /// What the lengths of the given normals mean. Default [`GradientMagnitudes::AsGiven`].
+    pub gradient_magnitudes: GradientMagnitudes,
+}
+
+/// How the gradients of F at the vertices get their magnitudes (READING-NOTES: Theorem 4.2
+/// reproduces a quadric only from its *gradients*; unit normals are gradients only on a
+/// sphere).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum GradientMagnitudes {
+    /// Recover them from the normals' directions: [`crate::gradient_scale::quadric_consistent_scales`]
+    /// (local quadric fits made consistent along edges). Data on one quadric (ellipsoid,
+    /// cylinder, paraboloid, …) then get its gradients up to one factor, so the default free
+    /// parameters reproduce it from unit normals; elsewhere a smooth estimate.
+    ///
+    /// Not the default: the magnitudes enter the hull (the Step 4 heights `t_lm` of §3.1
+    /// weigh the two end points' gradients), and on fandisk, whose creases the local fits
+    /// straddle, the rescaled hull keeps tetrahedra intersecting through every refinement
+    /// round, where the unit normals build.
+    QuadricConsistent,
+    /// Use the given vectors as they are (unit normals, or exact gradients of an implicit
+    /// function): the paper's reading. The default.
+    #[default]
+    AsGiven,
 }
 
 impl Default for SurfaceOptions {
@@ -51,6 +74,7 @@ impl Default for SurfaceOptions {
             sheet_margin: 1e-2,
             bound_level: 8,
             condition_normals: true,
+            gradient_magnitudes: GradientMagnitudes::AsGiven,
         }
     }
 }
@@ -183,6 +207,17 @@ impl ApatchSurface {
             )
         } else {
             (normals.to_vec(), Vec::new())
+        };
+        let normals = match options.gradient_magnitudes {
+            GradientMagnitudes::AsGiven => normals,
+            GradientMagnitudes::QuadricConsistent => {
+                let scales = crate::gradient_scale::quadric_consistent_scales(mesh, &normals)?;
+                normals
+                    .iter()
+                    .zip(&scales)
+                    .map(|(n, s)| n.normalize() * *s)
+                    .collect()
+            }
         };
         let start = std::time::Instant::now();
         let hull = SimplicialHull::from_mesh(mesh, &normals, &options.hull)?;

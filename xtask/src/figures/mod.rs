@@ -208,11 +208,8 @@ fn fig3_multiple_sheets(dir: &Path) -> Result<()> {
                 let tet = &side.tets[a];
                 let poly = &side.polys[a];
                 let corners = [0, 1, 2, 3].map(|i| tet.vertex(i));
-                let (p, t) = contour::zero_set_in_tetrahedron(
-                    corners,
-                    |x| poly.value_at(tet, x),
-                    LATTICE,
-                );
+                let (p, t) =
+                    contour::zero_set_in_tetrahedron(corners, |x| poly.value_at(tet, x), LATTICE);
                 let offset = all.positions.len() as u32;
                 // The selected sheet is drawn from the tessellation (it includes the edge
                 // patches, whose tetrahedra are not contoured here); the contour keeps the
@@ -257,7 +254,11 @@ fn worked_examples(dir: &Path) -> Result<()> {
             &name,
             &[&rm],
             &[&wire],
-            &options(Mode::Patches, (640, 480), vec![framed(mesh.positions(), TWO_TRIANGLE_VIEW)]),
+            &options(
+                Mode::Patches,
+                (640, 480),
+                vec![framed(mesh.positions(), TWO_TRIANGLE_VIEW)],
+            ),
         )?;
     }
     Ok(())
