@@ -28,9 +28,9 @@
 #![warn(missing_docs)]
 
 pub use algesurf_apatch as apatch;
-pub use algesurf_inspect as inspect;
 pub use algesurf_bb as bb;
 pub use algesurf_hull as hull;
+pub use algesurf_inspect as inspect;
 pub use algesurf_io as io;
 pub use algesurf_mesh as mesh;
 pub use algesurf_polar as polar;

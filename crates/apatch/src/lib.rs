@@ -28,4 +28,4 @@ pub use surface::{
     SurfaceOptions,
 };
 pub use tessellate::{PatchKind, Tessellation};
-pub use verify::{ContinuityReport, InterpolationReport, Owner, Piece, PieceFunction, Worst};
+pub use verify::{Owner, Piece, PieceFunction};
