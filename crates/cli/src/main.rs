@@ -1,6 +1,7 @@
 //! The `algesurf` command-line tool.
 #![forbid(unsafe_code)]
 
+mod check;
 mod convert;
 mod info;
 mod smooth;
@@ -27,6 +28,10 @@ enum Command {
     /// it and write it (with no INPUT: a built-in icosahedron, which becomes the unit sphere,
     /// to smooth.glb).
     Smooth(smooth::SmoothArgs),
+    /// Build the surface as `smooth` does and measure every property it must have
+    /// (interpolation, C1, normal agreement, simple roots, watertightness, parameter margins);
+    /// exit status 2 when one fails.
+    Check(check::CheckArgs),
 }
 
 /// Reads a mesh for a command; a file with neither vertices nor faces is an error (the
@@ -51,6 +56,7 @@ fn main() -> ExitCode {
         Command::Info(a) => info::run(a).map(|()| ExitCode::SUCCESS),
         Command::Convert(a) => convert::run(a).map(|()| ExitCode::SUCCESS),
         Command::Smooth(a) => smooth::run(a),
+        Command::Check(a) => check::run(a),
     };
     match result {
         Ok(code) => code,

@@ -60,7 +60,7 @@ impl SmoothNormals {
             SmoothNormals::File => NormalMethod::FromFile,
         }
     }
-    fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             SmoothNormals::Loop => "loop",
             SmoothNormals::Area => "area",
@@ -86,7 +86,7 @@ impl FreeParametersArg {
             FreeParametersArg::Linear => FreeParameterRule::Linear,
         }
     }
-    fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             FreeParametersArg::Quadric => "quadric",
             FreeParametersArg::Linear => "linear",
@@ -119,15 +119,23 @@ pub struct SmoothArgs {
     /// Steps across each edge patch (default: the resolution).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub across: Option<u32>,
+    /// How the surface is built.
+    #[command(flatten)]
+    pub surface: SurfaceArgs,
+    /// Also write the summary as JSON to this file.
+    #[arg(long)]
+    pub report: Option<PathBuf>,
+}
+
+/// The options that decide the surface built on a mesh (shared by `smooth` and `check`).
+#[derive(clap::Args, Debug, Clone)]
+pub struct SurfaceArgs {
     /// Vertex normals (the gradients of the surface's function at the vertices).
     #[arg(long, value_enum, default_value_t = SmoothNormals::Loop)]
     pub normals: SmoothNormals,
     /// Rule for the free parameters (the function's value at the tetrahedron apexes).
     #[arg(long, value_enum, default_value_t = FreeParametersArg::Quadric)]
     pub free_parameters: FreeParametersArg,
-    /// Also write the summary as JSON to this file.
-    #[arg(long)]
-    pub report: Option<PathBuf>,
 }
 
 type BoxError = Box<dyn std::error::Error>;
@@ -148,7 +156,7 @@ struct Timings {
 
 /// Runs `f`, timing it; with `progress`, shows a spinner named `name` on stderr once it has
 /// run for a second.
-fn stage<T>(name: &str, progress: bool, f: impl FnOnce() -> T) -> (T, f64) {
+pub(crate) fn stage<T>(name: &str, progress: bool, f: impl FnOnce() -> T) -> (T, f64) {
     let start = Instant::now();
     if !progress {
         let r = f();
@@ -177,7 +185,7 @@ fn stage<T>(name: &str, progress: bool, f: impl FnOnce() -> T) -> (T, f64) {
 }
 
 /// `path` made absolute and resolved as far as it exists (for comparing input and output).
-fn resolved(path: &Path) -> PathBuf {
+pub(crate) fn resolved(path: &Path) -> PathBuf {
     if let Ok(p) = path.canonicalize() {
         return p;
     }
@@ -308,7 +316,7 @@ fn max_deviation(input: &TriMesh, points: &[DVec3]) -> (f64, f64) {
 }
 
 /// Writes `text` to `path` through a temporary file in the same directory and a rename.
-fn write_atomic(path: &Path, text: &str) -> Result<(), BoxError> {
+pub(crate) fn write_atomic(path: &Path, text: &str) -> Result<(), BoxError> {
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
         _ => PathBuf::from("."),
@@ -326,62 +334,40 @@ fn write_atomic(path: &Path, text: &str) -> Result<(), BoxError> {
     Ok(())
 }
 
-/// Smooths the input (or the built-in icosahedron) and writes the surface.
-///
-/// Returns the exit code: success, or [`EXIT_SURFACE_DEFECTS`] when rays missed or had
-/// multiple roots (the output is written all the same).
+/// A surface built on the input as `smooth` builds it, with what the report needs.
+pub(crate) struct Built {
+    /// The triangle mesh after repair.
+    pub tri: TriMesh,
+    /// The surface.
+    pub surface: ApatchSurface,
+    /// One line naming the repairs.
+    pub repair_text: String,
+    /// The repairs as JSON.
+    pub repair_json: serde_json::Value,
+    /// Seconds of read, repair, normals, hull, function and construction.
+    timings: Timings,
+}
+
+/// The name of the input in messages: its path, or the built-in mesh's description.
+pub(crate) fn source_name(input: Option<&Path>) -> String {
+    input.map_or_else(|| DEFAULT_MESH.to_string(), |p| p.display().to_string())
+}
+
+/// Reads and repairs `input` (or takes the built-in icosahedron), computes the vertex normals
+/// and builds the surface: the stages `smooth` and `check` share.
 ///
 /// # Errors
-/// Unreadable input, a mesh the surface cannot be built on (the message names the file and
-/// the stage), an output or report path equal to the input, or a write failure.
-pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
-    let progress = std::io::stderr().is_terminal();
-    let total_start = Instant::now();
-    let source = args
-        .input
-        .as_ref()
-        .map_or_else(|| DEFAULT_MESH.to_string(), |p| p.display().to_string());
-    let output = match (&args.input, &args.output) {
-        (_, Some(o)) => o.clone(),
-        (None, None) => PathBuf::from("smooth.glb"),
-        (Some(_), None) => {
-            return Err("smooth: -o OUTPUT is required when an INPUT is given".into());
-        }
-    };
-    if let Some(input) = &args.input {
-        let inp = resolved(input);
-        if resolved(&output) == inp {
-            return Err(format!(
-                "{}: refusing to overwrite the input with the output",
-                input.display()
-            )
-            .into());
-        }
-        if args.report.as_deref().is_some_and(|r| resolved(r) == inp) {
-            return Err(format!(
-                "{}: refusing to overwrite the input with the report",
-                input.display()
-            )
-            .into());
-        }
-    }
-    if args
-        .report
-        .as_deref()
-        .is_some_and(|r| resolved(r) == resolved(&output))
-    {
-        return Err(format!(
-            "{}: the report and the output are the same file",
-            output.display()
-        )
-        .into());
-    }
-    let n = args.resolution as usize;
-    let m = args.across.unwrap_or(args.resolution) as usize;
+/// Unreadable input, a failed repair, no faces, no normals, or a mesh the surface cannot be
+/// built on; each message names the input and the stage.
+pub(crate) fn build(
+    input: Option<&Path>,
+    args: &SurfaceArgs,
+    progress: bool,
+) -> Result<Built, BoxError> {
+    let source = source_name(input);
     let mut t = Timings::default();
-
     // Read and repair (the built-in mesh needs neither).
-    let (tri, repair_text, repair_json) = match &args.input {
+    let (tri, repair_text, repair_json) = match input {
         Some(path) => {
             let (mesh, dt) = stage("reading", progress, || crate::read_mesh(path));
             t.read = dt;
@@ -459,6 +445,73 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
     })?;
     t.hull = surface.timings().hull.as_secs_f64();
     t.function = surface.timings().function.as_secs_f64();
+    Ok(Built {
+        tri,
+        surface,
+        repair_text,
+        repair_json,
+        timings: t,
+    })
+}
+
+/// Smooths the input (or the built-in icosahedron) and writes the surface.
+///
+/// Returns the exit code: success, or [`EXIT_SURFACE_DEFECTS`] when rays missed or had
+/// multiple roots (the output is written all the same).
+///
+/// # Errors
+/// Unreadable input, a mesh the surface cannot be built on (the message names the file and
+/// the stage), an output or report path equal to the input, or a write failure.
+pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
+    let progress = std::io::stderr().is_terminal();
+    let total_start = Instant::now();
+    let source = source_name(args.input.as_deref());
+    let output = match (&args.input, &args.output) {
+        (_, Some(o)) => o.clone(),
+        (None, None) => PathBuf::from("smooth.glb"),
+        (Some(_), None) => {
+            return Err("smooth: -o OUTPUT is required when an INPUT is given".into());
+        }
+    };
+    if let Some(input) = &args.input {
+        let inp = resolved(input);
+        if resolved(&output) == inp {
+            return Err(format!(
+                "{}: refusing to overwrite the input with the output",
+                input.display()
+            )
+            .into());
+        }
+        if args.report.as_deref().is_some_and(|r| resolved(r) == inp) {
+            return Err(format!(
+                "{}: refusing to overwrite the input with the report",
+                input.display()
+            )
+            .into());
+        }
+    }
+    if args
+        .report
+        .as_deref()
+        .is_some_and(|r| resolved(r) == resolved(&output))
+    {
+        return Err(format!(
+            "{}: the report and the output are the same file",
+            output.display()
+        )
+        .into());
+    }
+    let n = args.resolution as usize;
+    let m = args.across.unwrap_or(args.resolution) as usize;
+
+    let Built {
+        tri,
+        surface,
+        repair_text,
+        repair_json,
+        timings,
+    } = build(args.input.as_deref(), &args.surface, progress)?;
+    let mut t = timings;
     let refinements = surface.hull().refinements().len();
     let rounds = surface
         .hull()
@@ -512,8 +565,8 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
         "options": {
             "resolution": n,
             "across": m,
-            "normals": args.normals.name(),
-            "free_parameters": args.free_parameters.name(),
+            "normals": args.surface.normals.name(),
+            "free_parameters": args.surface.free_parameters.name(),
         },
         "input_mesh": {
             "vertices": tri.vertex_count(),

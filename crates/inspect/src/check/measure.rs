@@ -70,23 +70,32 @@ pub fn interpolation<S: PatchSurface + ?Sized>(surface: &S) -> InterpolationMeas
     } else {
         (hi - lo).length().max(f64::MIN_POSITIVE)
     };
-    let index: HashMap<[u64; 3], usize> = points
-        .iter()
-        .enumerate()
-        .map(|(i, p)| (key(*p), i))
-        .collect();
+    // Position → every interpolated vertex there. A mesh may keep coincident vertices
+    // (repair does not weld vertices whose welding would make the mesh non-manifold), each
+    // with its own normal; a piece at that position belongs to one of them, so its gradient
+    // is compared with the nearest of their normals. (That cannot hide a defect: a wrong
+    // gradient would have to match the normal of another vertex there exactly.)
+    let mut index: HashMap<[u64; 3], Vec<usize>> = HashMap::new();
+    for (i, p) in points.iter().enumerate() {
+        index.entry(key(*p)).or_default().push(i);
+    }
     (0..surface.piece_count())
         .into_par_iter()
         .map(|piece| {
             let mut r = InterpolationMeasure::default();
             for x in surface.piece_simplex(piece) {
-                if let Some(&i) = index.get(&key(x)) {
+                if let Some(ids) = index.get(&key(x)) {
                     let (f, g) = surface.value_gradient(piece, x);
+                    let (i, a) = ids
+                        .iter()
+                        .map(|&i| (i, angle(g, normals[i])))
+                        .reduce(|a, b| if b.1 < a.1 { b } else { a })
+                        .expect("at least one vertex per position");
                     let at = Location::Element(Element::Vertex(i));
                     r.samples += 1;
                     r.value
                         .update(f.abs() / (g.length() * diag).max(f64::MIN_POSITIVE), at);
-                    r.normal_angle.update(angle(g, normals[i]), at);
+                    r.normal_angle.update(a, at);
                 }
             }
             r

@@ -35,7 +35,8 @@
 //! | normal agreement | angle between the `∇F` of the pieces meeting at each patch-boundary vertex of the tessellation | ≤ 1e-8 rad |
 //! | missed rays / multiple roots | rays whose shooting polynomial has no root in `[0, 1)` / whose root is not simple | 0 |
 //! | watertight | tessellation edges not shared by exactly two oppositely oriented triangles (closed input), or by more than two (open input) | 0 |
-//! | duplicate positions | tessellation vertices at the position of an earlier one | 0 |
+//! | finite positions | tessellation vertices with a NaN or infinite coordinate | 0 |
+//! | duplicate positions | tessellation vertices at the position of an earlier one (coincident input vertices excepted) | 0 |
 //! | Euler characteristic | `\|χ(output) − χ(input after repair)\|` | 0 |
 //! | parameter margin | least `(value − bound) / scale` of the free parameters beyond their single-sheet bound (Lemma 2.3, Step 6) | > 0 |
 //!
@@ -262,18 +263,46 @@ pub fn check_with_progress<S: PatchSurface + ?Sized>(
             "the resolution and the facet level must be at least 1".into(),
         ));
     }
+    progress("tessellation");
+    let t = surface.tessellate(options.resolution)?;
+    measure_all(surface, &t, options.facet_level, progress)
+}
+
+/// [`check`] on a tessellation the caller already has (from
+/// [`PatchSurface::tessellate`]); `facet_level` as in [`CheckOptions`].
+///
+/// # Errors
+/// [`InspectError::InvalidOption`] for a zero facet level, [`InspectError::Measurement`] when
+/// a piece's tetrahedron is degenerate.
+pub fn check_tessellation<S: PatchSurface + ?Sized>(
+    surface: &S,
+    tessellation: &Tessellated,
+    facet_level: usize,
+) -> Result<CheckReport, InspectError> {
+    if facet_level == 0 {
+        return Err(InspectError::InvalidOption(
+            "the facet level must be at least 1".into(),
+        ));
+    }
+    measure_all(surface, tessellation, facet_level, &mut |_| {})
+}
+
+fn measure_all<S: PatchSurface + ?Sized>(
+    surface: &S,
+    t: &Tessellated,
+    facet_level: usize,
+    progress: &mut dyn FnMut(&str),
+) -> Result<CheckReport, InspectError> {
     progress("interpolation");
     let interp = interpolation(surface);
     progress("C1 across facets");
-    let c1 = continuity(surface, options.facet_level);
-    progress("tessellation");
-    let t = surface.tessellate(options.resolution)?;
+    let c1 = continuity(surface, facet_level);
     progress("normal agreement");
-    let normals = normal_agreement(surface, &t)?;
+    let normals = normal_agreement(surface, t)?;
     progress("topology");
-    let topo = topology(&t, surface.input_topology());
+    let topo = topology(t, surface.input_topology());
     let margins = surface.parameter_margins();
     Ok(CheckReport::new(
-        surface, &interp, &c1, &normals, &t, &topo, &margins,
+        surface, &interp, &c1, &normals, t, &topo, &margins,
     ))
 }

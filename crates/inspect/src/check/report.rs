@@ -16,6 +16,8 @@ pub enum Comparison {
     AtMost,
     /// Passes when `worst > threshold` (a margin).
     Above,
+    /// Passes when `worst ≥ threshold` (a sample count).
+    AtLeast,
 }
 
 /// One measured property.
@@ -53,6 +55,7 @@ impl CheckRow {
         let pass = match comparison {
             Comparison::AtMost => worst <= threshold,
             Comparison::Above => worst > threshold,
+            Comparison::AtLeast => worst >= threshold,
         };
         CheckRow {
             property,
@@ -89,6 +92,7 @@ impl CheckRow {
         match self.comparison {
             Comparison::AtMost => format!("≤ {}", number(self.threshold)),
             Comparison::Above => format!("> {}", number(self.threshold)),
+            Comparison::AtLeast => format!("≥ {}", number(self.threshold)),
         }
     }
 
@@ -179,8 +183,8 @@ impl CheckReport {
                     surface.piece_element(f.pieces.1),
                 )
             }),
-            MIN_FACET_SAMPLES as f64 - 1.0,
-            Comparison::Above,
+            MIN_FACET_SAMPLES as f64,
+            Comparison::AtLeast,
             c1.facets.len(),
         ));
         rows.push(CheckRow::from_worst(
@@ -228,6 +232,15 @@ impl CheckReport {
             0.0,
             Comparison::AtMost,
             t.triangles.len(),
+        ));
+        rows.push(CheckRow::new(
+            "finite_positions",
+            "vertices with a NaN or infinite coordinate",
+            topo.non_finite as f64,
+            topo.first_non_finite.map(Location::TessellationVertex),
+            0.0,
+            Comparison::AtMost,
+            t.positions.len(),
         ));
         rows.push(CheckRow::new(
             "duplicate_positions",
@@ -303,6 +316,7 @@ impl CheckReport {
                     "comparison": match r.comparison {
                         Comparison::AtMost => "<=",
                         Comparison::Above => ">",
+                        Comparison::AtLeast => ">=",
                     },
                     "samples": r.samples,
                     "pass": r.pass,
@@ -355,6 +369,9 @@ impl fmt::Display for CheckReport {
                 // Numbers right-aligned, text left-aligned.
                 if k == 1 || k == 4 {
                     write!(f, "{}{c}", " ".repeat(pad))?;
+                } else if k == 5 {
+                    // Last column: no trailing spaces.
+                    write!(f, "{c}")?;
                 } else {
                     write!(f, "{c}{}", " ".repeat(pad))?;
                 }

@@ -12,10 +12,15 @@ pub struct TopologyMeasure {
     pub bad_edges: usize,
     /// The first such edge.
     pub first_bad_edge: Option<(u32, u32)>,
-    /// Vertices at exactly the position of an earlier vertex.
+    /// Vertices at exactly the position of an earlier vertex (pairs of two interpolated input
+    /// vertices excepted: those are coincident in the input).
     pub duplicate_positions: usize,
     /// The first such vertex.
     pub first_duplicate: Option<usize>,
+    /// Vertices with a NaN or infinite coordinate.
+    pub non_finite: usize,
+    /// The first such vertex.
+    pub first_non_finite: Option<usize>,
     /// The input's topology.
     pub input: InputTopology,
     /// `V − E + F` of the tessellation (vertices used by a triangle).
@@ -47,16 +52,26 @@ pub fn topology(t: &Tessellated, input: InputTopology) -> TopologyMeasure {
     let mut seen: HashMap<[u64; 3], usize> = HashMap::new();
     let mut duplicates = Vec::new();
     for (i, p) in t.positions.iter().enumerate() {
-        if seen.insert(p.to_array().map(f64::to_bits), i).is_some() {
-            duplicates.push(i);
+        if let Some(j) = seen.insert(p.to_array().map(f64::to_bits), i) {
+            // Two interpolated vertices at one position are the input's own coincident
+            // vertices (kept apart by repair), not a crack the tessellation opened.
+            let from_input = i < t.interpolated_vertices && j < t.interpolated_vertices;
+            if !from_input {
+                duplicates.push(i);
+            }
         }
     }
+    let non_finite: Vec<usize> = (0..t.positions.len())
+        .filter(|&i| !t.positions[i].is_finite())
+        .collect();
     let used: HashSet<u32> = t.triangles.iter().flatten().copied().collect();
     TopologyMeasure {
         bad_edges: bad.len(),
         first_bad_edge: bad.first().copied(),
         duplicate_positions: duplicates.len(),
         first_duplicate: duplicates.first().copied(),
+        non_finite: non_finite.len(),
+        first_non_finite: non_finite.first().copied(),
         input,
         euler_characteristic: used.len() as i64 - undirected as i64 + t.triangles.len() as i64,
     }
