@@ -47,6 +47,9 @@ fn key(p: DVec3) -> [u64; 3] {
     p.to_array().map(f64::to_bits)
 }
 
+/// A facet: the keys of its three vertices, sorted.
+type FacetKey = [[u64; 3]; 3];
+
 /// Interpolation of the vertices and their normals.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct InterpolationMeasure {
@@ -148,7 +151,7 @@ impl ContinuityMeasure {
 /// are skipped: there the rational blends of (4.1)/(4.7) are 0/0 (they vanish to second
 /// order, so F is C1 there by continuity, but a sample would measure rounding of 0/0).
 pub fn continuity<S: PatchSurface + ?Sized>(surface: &S, level: usize) -> ContinuityMeasure {
-    let mut by_facet: HashMap<[[u64; 3]; 3], Vec<usize>> = HashMap::new();
+    let mut by_facet: HashMap<FacetKey, Vec<usize>> = HashMap::new();
     for piece in 0..surface.piece_count() {
         let t = surface.piece_simplex(piece);
         for skip in 0..4 {
@@ -167,7 +170,7 @@ pub fn continuity<S: PatchSurface + ?Sized>(surface: &S, level: usize) -> Contin
         .iter()
         .map(|p| key(*p))
         .collect();
-    let mut shared: Vec<([[u64; 3]; 3], (usize, usize))> = by_facet
+    let mut shared: Vec<(FacetKey, (usize, usize))> = by_facet
         .into_iter()
         .filter(|(_, users)| users.len() == 2)
         .map(|(facet, users)| (facet, (users[0], users[1])))
