@@ -2,49 +2,11 @@
 //! JSON report, and the exit statuses (0 all hold, 1 errors; 2, a failing property, is tested
 //! in the binary's unit tests and by algesurf-inspect's perturbation tests).
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
+
+use common::{TempDir, algesurf, text};
 
 use algesurf_mesh::{PolygonMesh, shapes};
-
-/// A fresh, empty directory for one test, removed when dropped.
-struct TempDir(PathBuf);
-
-impl TempDir {
-    fn new(name: &str) -> TempDir {
-        let dir =
-            std::env::temp_dir().join(format!("algesurf-check-{name}-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).expect("create temp dir");
-        TempDir(dir)
-    }
-    fn path(&self) -> &Path {
-        &self.0
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
-fn algesurf(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_algesurf"))
-        .current_dir(dir)
-        .args(args)
-        .output()
-        .expect("run algesurf")
-}
-
-fn text(out: &Output) -> String {
-    format!(
-        "status {:?}\nstdout:\n{}\nstderr:\n{}",
-        out.status.code(),
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    )
-}
 
 const PROPERTIES: [&str; 8] = [
     "interpolation",
@@ -59,7 +21,7 @@ const PROPERTIES: [&str; 8] = [
 
 #[test]
 fn default_mesh_passes_and_prints_the_table() {
-    let dir = TempDir::new("default");
+    let dir = TempDir::new("check", "default");
     let out = algesurf(dir.path(), &["check"]);
     assert_eq!(out.status.code(), Some(0), "{}", text(&out));
     let stdout = String::from_utf8_lossy(&out.stdout);
@@ -88,7 +50,7 @@ fn default_mesh_passes_and_prints_the_table() {
 
 #[test]
 fn json_report_is_written_and_parseable() {
-    let dir = TempDir::new("json");
+    let dir = TempDir::new("check", "json");
     let out = algesurf(dir.path(), &["check", "--json", "report.json"]);
     assert_eq!(out.status.code(), Some(0), "{}", text(&out));
     let json: serde_json::Value =
@@ -129,7 +91,7 @@ fn json_report_is_written_and_parseable() {
 
 #[test]
 fn a_torus_file_passes_with_linear_free_parameters() {
-    let dir = TempDir::new("torus");
+    let dir = TempDir::new("check", "torus");
     let torus = shapes::torus(12, 8, 1.5, 0.6);
     let mesh = PolygonMesh::from_triangles(torus.positions().to_vec(), torus.triangles());
     algesurf_io::write(
@@ -157,7 +119,7 @@ fn a_torus_file_passes_with_linear_free_parameters() {
 
 #[test]
 fn missing_input_is_an_error_with_status_one() {
-    let dir = TempDir::new("missing");
+    let dir = TempDir::new("check", "missing");
     let out = algesurf(dir.path(), &["check", "no-such-mesh.obj"]);
     assert_eq!(out.status.code(), Some(1), "{}", text(&out));
     let stderr = String::from_utf8_lossy(&out.stderr);
@@ -166,7 +128,7 @@ fn missing_input_is_an_error_with_status_one() {
 
 #[test]
 fn report_over_the_input_is_refused() {
-    let dir = TempDir::new("overwrite");
+    let dir = TempDir::new("check", "overwrite");
     let ico = shapes::icosphere(0);
     let mesh = PolygonMesh::from_triangles(ico.positions().to_vec(), ico.triangles());
     let path = dir.path().join("ico.obj");

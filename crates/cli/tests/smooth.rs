@@ -1,51 +1,14 @@
 //! End-to-end tests of `algesurf smooth`: the binary on the built-in mesh, on an icosphere with
 //! exact sphere normals, its JSON report, and its errors.
 
+mod common;
+
 use std::collections::HashMap;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+
+use common::{TempDir, algesurf, text};
 
 use algesurf_io::PATCH_ID;
 use algesurf_mesh::{PolygonMesh, PropertyValues, shapes};
-
-/// A fresh, empty directory for one test, removed when dropped.
-struct TempDir(PathBuf);
-
-impl TempDir {
-    fn new(name: &str) -> TempDir {
-        let dir =
-            std::env::temp_dir().join(format!("algesurf-smooth-{name}-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).expect("create temp dir");
-        TempDir(dir)
-    }
-    fn path(&self) -> &Path {
-        &self.0
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
-fn algesurf(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_algesurf"))
-        .current_dir(dir)
-        .args(args)
-        .output()
-        .expect("run algesurf")
-}
-
-fn text(out: &Output) -> String {
-    format!(
-        "status {:?}\nstdout:\n{}\nstderr:\n{}",
-        out.status.code(),
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    )
-}
 
 /// Every undirected edge is used by exactly two triangles, once in each direction.
 fn assert_closed_manifold(mesh: &PolygonMesh) {
@@ -74,7 +37,7 @@ fn assert_closed_manifold(mesh: &PolygonMesh) {
 
 #[test]
 fn default_mesh_writes_a_closed_glb() {
-    let dir = TempDir::new("default");
+    let dir = TempDir::new("smooth", "default");
     let out = algesurf(dir.path(), &["smooth"]);
     assert!(out.status.success(), "{}", text(&out));
     let stdout = String::from_utf8_lossy(&out.stdout);
@@ -137,7 +100,7 @@ fn icosphere_obj(level: u32) -> String {
 
 #[test]
 fn icosphere_with_sphere_normals_gives_the_sphere() {
-    let dir = TempDir::new("sphere");
+    let dir = TempDir::new("smooth", "sphere");
     std::fs::write(dir.path().join("ico.obj"), icosphere_obj(1)).unwrap();
     let out = algesurf(
         dir.path(),
@@ -235,7 +198,7 @@ fn icosphere_with_sphere_normals_gives_the_sphere() {
 
 #[test]
 fn bad_input_fails_naming_the_file() {
-    let dir = TempDir::new("bad");
+    let dir = TempDir::new("smooth", "bad");
     // Missing file.
     let out = algesurf(dir.path(), &["smooth", "missing.obj", "-o", "out.ply"]);
     assert!(!out.status.success(), "{}", text(&out));
@@ -258,7 +221,7 @@ fn bad_input_fails_naming_the_file() {
 
 #[test]
 fn never_overwrites_the_input() {
-    let dir = TempDir::new("overwrite");
+    let dir = TempDir::new("smooth", "overwrite");
     let obj = icosphere_obj(0);
     std::fs::write(dir.path().join("ico.obj"), &obj).unwrap();
     for args in [

@@ -69,6 +69,27 @@ impl CheckRow {
         }
     }
 
+    /// A count of defects, which must be zero.
+    fn count(
+        property: &'static str,
+        measure: &'static str,
+        count: impl TryInto<u32>,
+        at: Option<Location>,
+        samples: usize,
+    ) -> Self {
+        // Counts beyond u32 (never in practice) saturate; the row fails either way.
+        let count = count.try_into().map_or(f64::from(u32::MAX), f64::from);
+        Self::new(
+            property,
+            measure,
+            count,
+            at,
+            0.0,
+            Comparison::AtMost,
+            samples,
+        )
+    }
+
     fn from_worst(
         property: &'static str,
         measure: &'static str,
@@ -198,25 +219,21 @@ impl CheckReport {
             rays.first()
                 .map(|r| Location::Element(surface.patch_element(r.0)))
         };
-        rows.push(CheckRow::new(
+        rows.push(CheckRow::count(
             "missed_rays",
             "rays with no root in [0, 1)",
-            t.missed_rays.len() as f64,
+            t.missed_rays.len(),
             first_ray(&t.missed_rays),
-            0.0,
-            Comparison::AtMost,
             t.positions.len(),
         ));
-        rows.push(CheckRow::new(
+        rows.push(CheckRow::count(
             "multiple_roots",
             "rays whose chosen root is not simple",
-            t.multiple_roots.len() as f64,
+            t.multiple_roots.len(),
             first_ray(&t.multiple_roots),
-            0.0,
-            Comparison::AtMost,
             t.positions.len(),
         ));
-        rows.push(CheckRow::new(
+        rows.push(CheckRow::count(
             if topo.input.closed {
                 "closed_manifold"
             } else {
@@ -227,40 +244,32 @@ impl CheckReport {
             } else {
                 "edges in more than two triangles or not opposite"
             },
-            topo.bad_edges as f64,
+            topo.bad_edges,
             topo.bad_edge_location(),
-            0.0,
-            Comparison::AtMost,
             t.triangles.len(),
         ));
-        rows.push(CheckRow::new(
+        rows.push(CheckRow::count(
             "finite_positions",
             "vertices with a NaN or infinite coordinate",
-            topo.non_finite as f64,
+            topo.non_finite,
             topo.first_non_finite.map(Location::TessellationVertex),
-            0.0,
-            Comparison::AtMost,
             t.positions.len(),
         ));
-        rows.push(CheckRow::new(
+        rows.push(CheckRow::count(
             "duplicate_positions",
             "vertices at the position of another",
-            topo.duplicate_positions as f64,
+            topo.duplicate_positions,
             topo.first_duplicate.map(Location::TessellationVertex),
-            0.0,
-            Comparison::AtMost,
             t.positions.len(),
         ));
-        rows.push(CheckRow::new(
+        rows.push(CheckRow::count(
             "euler_characteristic",
             "|χ(output) − χ(input)|",
-            (topo.euler_characteristic - topo.input.euler_characteristic).unsigned_abs() as f64,
+            (topo.euler_characteristic - topo.input.euler_characteristic).unsigned_abs(),
             Some(Location::Euler {
                 input: topo.input.euler_characteristic,
                 output: topo.euler_characteristic,
             }),
-            0.0,
-            Comparison::AtMost,
             1,
         ));
         let least = margins
