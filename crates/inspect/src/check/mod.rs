@@ -40,9 +40,11 @@
 //! | Euler characteristic | `\|χ(output) − χ(input after repair)\|` | 0 |
 //! | parameter margin | least `(value − bound) / scale` of the free parameters beyond their single-sheet bound (Lemma 2.3, Step 6) | > 0 |
 //!
-//! The value thresholds sit a few thousand ulps above the rounding of one evaluation of a
-//! cubic in Bernstein form (its coefficients are of size `|∇F| · edge`), so exact C1 and
-//! exact interpolation pass and any real defect, even one part in 10⁸, fails.
+//! They are the thresholds the smooth issue set. Values sit about 10⁴ ulps above the rounding
+//! of one evaluation of a cubic in Bernstein form (coefficients of size `|∇F| · edge`);
+//! gradients and angles get more room (10⁻⁸, 10⁻⁹) because the rational blends of (4.1)/(4.7)
+//! lose digits near the mesh edges where they are 0/0. A real defect — one coefficient off by
+//! a millionth of its size — fails them by orders of magnitude (see the perturbation tests).
 
 mod apatch;
 mod measure;
@@ -187,7 +189,55 @@ pub struct InputTopology {
 
 /// A surface made of pieces (functions on tetrahedra) that the check battery measures.
 ///
-/// Pieces are numbered `0..piece_count()`; patches are the ids of [`Tessellated`].
+/// Pieces are numbered `0..piece_count()`; patches are the ids of [`Tessellated`]. Pieces whose
+/// tetrahedra share a facet (the same three vertices, bit for bit) are compared across it.
+///
+/// A minimal implementation — one piece, the plane `F = z` on one tetrahedron, interpolating
+/// the three vertices of its base with normal `+z`, tessellated as that triangle:
+///
+/// ```
+/// use algesurf_inspect::InspectError;
+/// use algesurf_inspect::check::{
+///     CheckOptions, Element, InputTopology, PatchSurface, Tessellated, check,
+/// };
+/// use glam::DVec3;
+///
+/// struct Plane {
+///     base: [DVec3; 3],
+///     normals: [DVec3; 3],
+/// }
+///
+/// impl PatchSurface for Plane {
+///     fn piece_count(&self) -> usize { 1 }
+///     fn piece_element(&self, _: usize) -> Element { Element::Face(0, None) }
+///     fn piece_simplex(&self, _: usize) -> [DVec3; 4] {
+///         [self.base[0], self.base[1], self.base[2], DVec3::new(0.3, 0.3, 1.0)]
+///     }
+///     fn value_gradient(&self, _: usize, x: DVec3) -> (f64, DVec3) { (x.z, DVec3::Z) }
+///     fn interpolation_targets(&self) -> (&[DVec3], &[DVec3]) { (&self.base, &self.normals) }
+///     fn tessellate(&self, _: usize) -> Result<Tessellated, InspectError> {
+///         Ok(Tessellated {
+///             positions: self.base.to_vec(),
+///             triangles: vec![[0, 1, 2]],
+///             triangle_patch: vec![0],
+///             interpolated_vertices: 3,
+///             ..Tessellated::default()
+///         })
+///     }
+///     fn patch_element(&self, _: u32) -> Element { Element::Face(0, None) }
+///     fn patch_pieces(&self, _: u32) -> Vec<usize> { vec![0] }
+///     fn parameter_margins(&self) -> Vec<(Element, f64)> { Vec::new() }
+///     fn input_topology(&self) -> InputTopology {
+///         InputTopology { closed: false, euler_characteristic: 1 }
+///     }
+/// }
+///
+/// let plane = Plane { base: [DVec3::ZERO, DVec3::X, DVec3::Y], normals: [DVec3::Z; 3] };
+/// let report = check(&plane, &CheckOptions::default())?;
+/// assert!(report.passed(), "{report}");
+/// assert_eq!(report.row("interpolation").unwrap().samples, 3);
+/// # Ok::<(), InspectError>(())
+/// ```
 pub trait PatchSurface: Sync {
     /// Number of pieces.
     fn piece_count(&self) -> usize;
