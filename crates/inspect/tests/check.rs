@@ -266,3 +266,46 @@ fn zero_resolution_is_an_invalid_option() {
         Err(InspectError::InvalidOption(_))
     ));
 }
+
+/// Coincident input vertices (kept apart by repair) are not a crack; a tessellation vertex
+/// repeating any position is, and so is an edge used by one triangle of a closed input.
+#[test]
+fn duplicates_and_open_edges_of_the_tessellation_are_counted() {
+    use algesurf_inspect::check::topology;
+    let p = [DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::Z];
+    // A tetrahedron's surface; vertices 0 and 4 coincide in the input.
+    let mut t = Tessellated {
+        positions: vec![p[0], p[1], p[2], p[3], p[0]],
+        triangles: vec![[0, 2, 1], [0, 1, 3], [1, 2, 3], [2, 0, 3]],
+        triangle_patch: vec![0; 4],
+        interpolated_vertices: 5,
+        ..Tessellated::default()
+    };
+    let closed = InputTopology {
+        closed: true,
+        euler_characteristic: 2,
+    };
+    let m = topology(&t, closed);
+    assert_eq!((m.bad_edges, m.duplicate_positions), (0, 0));
+    assert_eq!(m.euler_characteristic, 2);
+    // The same repeated position made by the tessellation is a duplicate.
+    t.interpolated_vertices = 4;
+    let m = topology(&t, closed);
+    assert_eq!((m.duplicate_positions, m.first_duplicate), (1, Some(4)));
+    // One triangle fewer: three open edges on a closed input.
+    t.triangles.pop();
+    let m = topology(&t, closed);
+    assert_eq!(m.bad_edges, 3);
+    assert_eq!(
+        topology(
+            &t,
+            InputTopology {
+                closed: false,
+                euler_characteristic: 1
+            }
+        )
+        .bad_edges,
+        0,
+        "an open input may have boundary edges"
+    );
+}
