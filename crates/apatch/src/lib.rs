@@ -36,4 +36,4 @@ pub use surface::{
     GradientMagnitudes, SurfaceOptions,
 };
 pub use tessellate::{PatchKind, Tessellation, TessellationLayout};
-pub use verify::{ContinuityReport, InterpolationReport, Owner, Piece, PieceFunction, Worst};
+pub use verify::{Owner, Piece, PieceFunction};

@@ -1,8 +1,11 @@
-//! The corpus (`ALGESURF_CORPUS`): every mesh either smooths with default options — no NaN, every
-//! ray hits with a simple root, closed inputs give closed manifold output — or, for the meshes
-//! listed in `FOLDED`, stops with a typed error that names the offending face and vertex.
-//! Prints a table per mesh (faces, patches, seconds, Hausdorff distance to the input, least
-//! free-parameter margin).
+//! The corpus (`ALGESURF_CORPUS`): every mesh either smooths with default options and passes the
+//! whole check battery of algesurf-inspect (interpolation, C1 across every interior facet,
+//! normal agreement, every ray hit with a simple root, no NaN, closed inputs give closed
+//! manifold output with their Euler characteristic, positive parameter margins) — or, for the
+//! meshes listed in `FOLDED`, stops with a typed error that names the offending face and
+//! vertex. Prints a summary line (faces, patches, seconds, Hausdorff distance to the input,
+//! least free-parameter margin) and the battery's table per mesh; tessellation resolution 2
+//! keeps the debug-profile run short (the battery's facet sampling does not depend on it).
 //!
 //! `FOLDED`: cow, Stanford bunny and Suzanne contain folds: vertices whose incident faces'
 //! normals fit in no hemisphere (the bunny's sliver caps turned 125° against their
@@ -17,24 +20,27 @@
 //! then runs out of rounds with tetrahedra of the same input face still intersecting. Handling
 //! that is open work; when it lands, these meshes move to the smoothing list and this test
 //! catches any that still fail.
-use algesurf_apatch::{ApatchSurface, SurfaceOptions, Tessellation};
+
+use algesurf_apatch::{ApatchSurface, SurfaceOptions};
+use algesurf_inspect::check::{ApatchView, CheckOptions, PatchSurface, check_tessellation};
 use algesurf_mesh::{NormalMethod, RepairOptions, TriMesh, TriangleBvh, repair, vertex_normals};
-use std::collections::HashMap;
 use std::time::Instant;
 
 const FOLDED: [&str; 3] = ["cow.obj", "stanford-bunny.obj", "suzanne.obj"];
 
-fn closed_manifold(t: &Tessellation) -> bool {
-    let mut directed: HashMap<(u32, u32), usize> = HashMap::new();
-    for tri in &t.triangles {
-        for k in 0..3 {
-            *directed.entry((tri[k], tri[(k + 1) % 3])).or_default() += 1;
-        }
-    }
-    directed
-        .iter()
-        .all(|(&(a, b), &c)| c == 1 && directed.get(&(b, a)) == Some(&1))
-}
+/// Meshes that smooth but where the battery finds properties that do not hold, with those
+/// properties: a finding, tracked here until fixed (any other failing property, or one of
+/// these on another mesh, fails the test).
+///
+/// fandisk: across both face facets of the positive edge tetrahedron of edge 1128 (faces 13396,
+/// split, and 13530, convex) ∇F jumps by 2.3e-8 where |∇F| ≈ 0.73 (1.5e-8 relative at the
+/// sampled points off the mesh edge, threshold 1e-8), and patch normals differ by 2.9e-8 rad
+/// near edge 3161. The edge cubic differs from both neighbours alike, while its C1 data agree
+/// (`overlap_mismatch` 5e-14) and the split solve is exact (residual 1e-12): the likely cause
+/// is rounding amplified by a thin edge tetrahedron on the fandisk's nearly flat faces (the
+/// barycentric gradients scale as 1/height). Everything else holds.
+const KNOWN_FAILURES: [(&str, &[&str]); 1] =
+    [("fandisk.obj", &["c1_gradient", "normal_agreement"])];
 
 #[test]
 fn every_corpus_mesh_smooths_or_names_its_fold() {
@@ -49,8 +55,8 @@ fn every_corpus_mesh_smooths_or_names_its_fold() {
         .collect();
     paths.sort();
     println!(
-        "{:<22} {:>7} {:>8} {:>9} {:>8} {:>11} {:>11}",
-        "mesh", "faces", "patches", "triangles", "seconds", "hausdorff", "min margin"
+        "{:<22} {:>7} {:>8} {:>9} {:>8} {:>8} {:>11} {:>11}",
+        "mesh", "faces", "patches", "triangles", "build s", "check s", "hausdorff", "min margin"
     );
     let mut failures = Vec::new();
     for path in paths {
@@ -59,7 +65,6 @@ fn every_corpus_mesh_smooths_or_names_its_fold() {
         let poly = algesurf_io::read(&path).unwrap();
         let repaired = repair(&poly, &RepairOptions::default()).unwrap().mesh;
         let mesh = TriMesh::from_polygon_mesh(&repaired).unwrap();
-        let closed = mesh.boundary_loops().is_empty();
         let normals = vertex_normals(&mesh, NormalMethod::Loop).unwrap();
         let surface = match ApatchSurface::new(&mesh, &normals, &SurfaceOptions::default()) {
             Ok(s) => s,
@@ -76,8 +81,9 @@ fn every_corpus_mesh_smooths_or_names_its_fold() {
                 continue;
             }
         };
-        let t = surface.tessellate(2, 2).unwrap();
-        let secs = start.elapsed().as_secs_f64();
+        let view = ApatchView::new(&surface);
+        let t = view.tessellate(2).unwrap();
+        let build = start.elapsed().as_secs_f64();
         let bvh = TriangleBvh::new(&mesh);
         let diag = mesh.bounding_box().diagonal();
         let hausdorff = t
@@ -86,39 +92,36 @@ fn every_corpus_mesh_smooths_or_names_its_fold() {
             .map(|p| bvh.closest_point(*p).map_or(f64::INFINITY, |c| c.distance))
             .fold(0.0, f64::max)
             / diag;
-        let margin = surface
-            .free_parameters()
-            .iter()
-            .map(|p| p.relative_margin)
-            .fold(f64::INFINITY, f64::min);
         let patches = t
             .triangle_patch
             .iter()
             .collect::<std::collections::HashSet<_>>()
             .len();
+        let start = Instant::now();
+        let report = check_tessellation(&view, &t, CheckOptions::default().facet_level).unwrap();
+        let margin = report.row("parameter_margin").unwrap().worst;
         println!(
-            "{name:<22} {:>7} {:>8} {:>9} {:>8.2} {:>11.3e} {:>11.3e}",
+            "{name:<22} {:>7} {:>8} {:>9} {:>8.2} {:>8.2} {:>11.3e} {:>11.3e}",
             mesh.face_count(),
             patches,
             t.triangles.len(),
-            secs,
+            build,
+            start.elapsed().as_secs_f64(),
             hausdorff,
             margin
         );
-        if t.positions.iter().any(|p| !p.is_finite()) {
-            failures.push(format!("{name}: non-finite output"));
-        }
-        if !t.missed_rays.is_empty() || !t.multiple_roots.is_empty() {
-            failures.push(format!(
-                "{name}: {} missed rays, {} multiple roots",
-                t.missed_rays.len(),
-                t.multiple_roots.len()
-            ));
-        }
-        if closed && !closed_manifold(&t) {
-            failures.push(format!(
-                "{name}: closed input, but the output is not a closed manifold"
-            ));
+        println!("{report}\n");
+        let known: &[&str] = KNOWN_FAILURES
+            .iter()
+            .find(|(mesh, _)| *mesh == name)
+            .map_or(&[], |(_, properties)| properties);
+        let failed: Vec<String> = report
+            .failures()
+            .filter(|r| !known.contains(&r.property))
+            .map(|r| format!("{} = {:e} at {}", r.property, r.worst, r.where_text()))
+            .collect();
+        if !failed.is_empty() {
+            failures.push(format!("{name}: {}", failed.join("; ")));
         }
     }
     assert!(failures.is_empty(), "{failures:#?}");

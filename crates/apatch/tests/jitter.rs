@@ -4,11 +4,11 @@
 //! quadric precision, which needs exact quadric data.
 
 use algesurf_apatch::{ApatchSurface, SurfaceOptions};
+use algesurf_inspect::check::{ApatchView, CheckOptions, check};
 use algesurf_mesh::shapes::{icosphere, torus};
 use algesurf_mesh::{NormalMethod, TriMesh, vertex_normals};
 use glam::DVec3;
 use proptest::prelude::*;
-use std::collections::HashMap;
 
 fn jitter(mesh: &TriMesh, seed: u64, amount: f64) -> TriMesh {
     // Deterministic per-vertex offsets from a small LCG (proptest supplies the seed).
@@ -28,7 +28,7 @@ fn jitter(mesh: &TriMesh, seed: u64, amount: f64) -> TriMesh {
     TriMesh::new(pos, mesh.triangles().to_vec()).unwrap()
 }
 
-fn check(mesh: &TriMesh, normal_tilt: f64, seed: u64) -> Result<(), TestCaseError> {
+fn keeps_theorem_4_1(mesh: &TriMesh, normal_tilt: f64, seed: u64) -> Result<(), TestCaseError> {
     let mut normals = vertex_normals(mesh, NormalMethod::Loop).unwrap();
     let mut s = seed.rotate_left(17) | 1;
     for n in &mut normals {
@@ -40,37 +40,15 @@ fn check(mesh: &TriMesh, normal_tilt: f64, seed: u64) -> Result<(), TestCaseErro
     }
     let surface = ApatchSurface::new(mesh, &normals, &SurfaceOptions::default())
         .map_err(|e| TestCaseError::fail(format!("construction: {e}")))?;
-    let c = surface.continuity_report(6);
-    prop_assert!(c.value.value <= 1e-10 && c.gradient.value <= 1e-8, "{c:?}");
-    let i = surface.interpolation_report();
-    prop_assert!(
-        i.value.value <= 1e-12 && i.normal_angle.value <= 1e-9,
-        "{i:?}"
-    );
-    let t = surface.tessellate(3, 3).unwrap();
-    prop_assert!(
-        t.missed_rays.is_empty() && t.multiple_roots.is_empty(),
-        "{} missed, {} multiple",
-        t.missed_rays.len(),
-        t.multiple_roots.len()
-    );
-    let na = surface.normal_agreement(&t);
-    prop_assert!(na.value <= 1e-8, "normals differ by {:e}", na.value);
-    let mut directed: HashMap<(u32, u32), usize> = HashMap::new();
-    for tri in &t.triangles {
-        for k in 0..3 {
-            *directed.entry((tri[k], tri[(k + 1) % 3])).or_default() += 1;
-        }
-    }
-    prop_assert!(
-        directed
-            .iter()
-            .all(|(&(a, b), &n)| n == 1 && directed.get(&(b, a)) == Some(&1)),
-        "not a closed manifold"
-    );
-    let used: std::collections::HashSet<u32> = t.triangles.iter().flatten().copied().collect();
-    let euler = used.len() as i64 - (directed.len() / 2) as i64 + t.triangles.len() as i64;
-    prop_assert_eq!(euler, surface.hull().mesh().euler_characteristic());
+    // The whole check battery: C1, interpolation, normal agreement, simple roots, closed
+    // manifold with the input's Euler characteristic, no duplicates, parameter margins.
+    let options = CheckOptions {
+        resolution: 3,
+        ..CheckOptions::default()
+    };
+    let r = check(&ApatchView::new(&surface), &options)
+        .map_err(|e| TestCaseError::fail(format!("check: {e}")))?;
+    prop_assert!(r.passed(), "\n{}", r);
     Ok(())
 }
 
@@ -79,11 +57,11 @@ proptest! {
 
     #[test]
     fn jittered_icospheres_keep_theorem_4_1(seed in any::<u64>(), amount in 0.0..0.02f64, tilt in 0.0..0.15f64) {
-        check(&jitter(&icosphere(1), seed, amount), tilt, seed)?;
+        keeps_theorem_4_1(&jitter(&icosphere(1), seed, amount), tilt, seed)?;
     }
 
     #[test]
     fn jittered_tori_keep_theorem_4_1(seed in any::<u64>(), amount in 0.0..0.01f64, tilt in 0.0..0.1f64) {
-        check(&jitter(&torus(12, 8, 1.5, 0.6), seed, amount), tilt, seed)?;
+        keeps_theorem_4_1(&jitter(&torus(12, 8, 1.5, 0.6), seed, amount), tilt, seed)?;
     }
 }

@@ -6,6 +6,7 @@ use algesurf_apatch::{
     ApatchSurface, FaceFunction, Retessellation, SurfaceOptions, Tessellation, UpdatedPatches,
 };
 use algesurf_hull::Side;
+use algesurf_inspect::check::{ApatchView, CheckOptions, check};
 use algesurf_mesh::shapes::{icosphere, torus};
 use glam::DVec3;
 
@@ -129,14 +130,10 @@ fn f_stays_c1_and_interpolating_after_updates() {
         let value = raised(&s, p.face, p.side, 2.0);
         s.set_free_parameter(p.face, p.side, value).unwrap();
     }
-    // The tolerances of the construction tests (tests/surface.rs, tests/jitter.rs).
-    let c = s.continuity_report(6);
-    assert!(c.value.value <= 1e-10 && c.gradient.value <= 1e-8, "{c:?}");
-    let i = s.interpolation_report();
-    assert!(
-        i.value.value <= 1e-12 && i.normal_angle.value <= 1e-9,
-        "{i:?}"
-    );
+    // The whole check battery (the construction tests' thresholds): C1 across every facet,
+    // interpolation, normal agreement, simple roots, watertightness, parameter margins.
+    let r = check(&ApatchView::new(&s), &CheckOptions::default()).unwrap();
+    assert!(r.passed(), "\n{r}");
     let t = s.tessellate(6, 6).unwrap();
     assert!(t.missed_rays.is_empty() && t.multiple_roots.is_empty());
 }

@@ -13,7 +13,10 @@ fn worst_ellipsoid_error(options: &SurfaceOptions) -> f64 {
     let sphere = icosphere(2);
     let axes = DVec3::new(1.5, 1.0, 0.7);
     let pos: Vec<DVec3> = sphere.positions().iter().map(|p| *p * axes).collect();
-    let unit: Vec<DVec3> = pos.iter().map(|p| (*p / (axes * axes)).normalize()).collect();
+    let unit: Vec<DVec3> = pos
+        .iter()
+        .map(|p| (*p / (axes * axes)).normalize())
+        .collect();
     let mesh = TriMesh::new(pos, sphere.triangles().to_vec()).unwrap();
     let s = ApatchSurface::new(&mesh, &unit, options).unwrap();
     let t = s.tessellate(6, 6).unwrap();

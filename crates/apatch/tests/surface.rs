@@ -1,40 +1,20 @@
 //! End-to-end claims of Xu–Huang–Bajaj 2001 on whole meshes, measured on the tessellation.
 
-use algesurf_apatch::{ApatchSurface, PatchKind, SurfaceOptions, Tessellation};
+use algesurf_apatch::{ApatchSurface, PatchKind, SurfaceOptions};
+use algesurf_inspect::check::{ApatchView, CheckOptions, CheckReport, check};
 use algesurf_mesh::TriMesh;
 use algesurf_mesh::shapes::icosphere;
 use glam::DVec3;
-use std::collections::HashMap;
 
-/// Every undirected edge of the output is used by exactly two triangles, in opposite
-/// directions (closed, consistently oriented 2-manifold); returns V − E + F.
-fn closed_manifold_euler(t: &Tessellation) -> i64 {
-    let mut directed: HashMap<(u32, u32), usize> = HashMap::new();
-    for tri in &t.triangles {
-        for k in 0..3 {
-            *directed.entry((tri[k], tri[(k + 1) % 3])).or_default() += 1;
-        }
-    }
-    for (&(a, b), &c) in &directed {
-        assert_eq!(c, 1, "directed edge ({a}, {b}) used {c} times");
-        assert_eq!(
-            directed.get(&(b, a)),
-            Some(&1),
-            "edge ({a}, {b}) has no opposite"
-        );
-    }
-    let used: std::collections::HashSet<u32> = t.triangles.iter().flatten().copied().collect();
-    used.len() as i64 - (directed.len() / 2) as i64 + t.triangles.len() as i64
-}
-
-fn no_duplicate_positions(t: &Tessellation) {
-    let mut seen = HashMap::new();
-    for (i, p) in t.positions.iter().enumerate() {
-        let key = p.to_array().map(f64::to_bits);
-        if let Some(j) = seen.insert(key, i) {
-            panic!("vertices {j} and {i} share the position {p}");
-        }
-    }
+/// The check battery of algesurf-inspect (interpolation, C1 across every interior facet,
+/// normal agreement, simple roots, closed manifold with the input's Euler characteristic, no
+/// duplicate positions, parameter margins) at tessellation resolution `resolution`.
+fn battery(s: &ApatchSurface, resolution: usize) -> CheckReport {
+    let options = CheckOptions {
+        resolution,
+        ..CheckOptions::default()
+    };
+    check(&ApatchView::new(s), &options).unwrap()
 }
 
 fn sphere_surface(level: u32) -> (TriMesh, ApatchSurface) {
@@ -78,9 +58,15 @@ fn sphere_is_recovered_from_icosahedron() {
 #[test]
 fn closed_input_gives_closed_manifold_output_with_its_euler_characteristic() {
     let (mesh, s) = sphere_surface(1);
+    let r = battery(&s, 5);
+    for property in [
+        "closed_manifold",
+        "duplicate_positions",
+        "euler_characteristic",
+    ] {
+        assert!(r.row(property).unwrap().pass, "{r}");
+    }
     let t = s.tessellate(5, 4).unwrap();
-    no_duplicate_positions(&t);
-    assert_eq!(closed_manifold_euler(&t), mesh.euler_characteristic());
     // Every input vertex is a tessellation vertex.
     for (i, p) in mesh.positions().iter().enumerate() {
         assert_eq!(t.positions[i], *p);
@@ -112,25 +98,15 @@ fn torus_smooths_to_a_closed_manifold() {
         counts[2] > 0,
         "the torus's saddle region has nonconvex faces"
     );
-    let t = s.tessellate(4, 4).unwrap();
-    assert!(
-        t.missed_rays.is_empty(),
-        "{} missed rays",
-        t.missed_rays.len()
-    );
-    assert!(
-        t.multiple_roots.is_empty(),
-        "{} multiple roots",
-        t.multiple_roots.len()
-    );
-    no_duplicate_positions(&t);
-    assert_eq!(closed_manifold_euler(&t), 0);
+    let r = battery(&s, 4);
+    assert!(r.passed(), "{r}");
+    assert!(r.row("closed_manifold").is_some());
 }
 
-/// Theorem 4.1, measured: F is C1 across every interior facet of the hull, interpolates the
-/// vertices with the given normals, and the patch normals agree at every shared tessellation
-/// vertex — on a sphere (convex faces, rational terms) and a torus (split faces, nonconvex
-/// edges).
+/// Theorem 4.1, measured by the check battery: F is C1 across every interior facet of the
+/// hull, interpolates the vertices with the given normals, and the patch normals agree at
+/// every shared tessellation vertex — on a sphere (convex faces, rational terms) and a torus
+/// (split faces, nonconvex edges).
 #[test]
 fn c1_across_every_interior_facet_and_normals_agree() {
     use algesurf_mesh::shapes::torus;
@@ -142,50 +118,9 @@ fn c1_across_every_interior_facet_and_normals_agree() {
     for (name, mesh) in meshes {
         let normals = vertex_normals(&mesh, NormalMethod::Loop).unwrap();
         let s = ApatchSurface::new(&mesh, &normals, &SurfaceOptions::default()).unwrap();
-        let c = s.continuity_report(6);
-        println!(
-            "{name}: {} facets, {} samples, value {:e} at {:?}, gradient {:e} at {:?}",
-            c.facets, c.samples, c.value.value, c.value.at, c.gradient.value, c.gradient.at
-        );
-        assert!(c.samples >= 16 * c.facets, "{name}: too few samples");
-        assert!(
-            c.value.value <= 1e-10,
-            "{name}: value mismatch {:e} at {:?}",
-            c.value.value,
-            c.value.at
-        );
-        assert!(
-            c.gradient.value <= 1e-8,
-            "{name}: gradient mismatch {:e} at {:?}",
-            c.gradient.value,
-            c.gradient.at
-        );
-        let i = s.interpolation_report();
-        println!(
-            "{name}: |F(p_i)| {:e}, normal angle {:e}",
-            i.value.value, i.normal_angle.value
-        );
-        assert!(
-            i.value.value <= 1e-12,
-            "{name}: F(p_i) = {:e} at vertex {:?}",
-            i.value.value,
-            i.value.at
-        );
-        assert!(
-            i.normal_angle.value <= 1e-9,
-            "{name}: normal angle {:e} at vertex {:?}",
-            i.normal_angle.value,
-            i.normal_angle.at
-        );
-        let t = s.tessellate(4, 4).unwrap();
-        let n = s.normal_agreement(&t);
-        println!("{name}: normal agreement {:e} at {:?}", n.value, n.at);
-        assert!(
-            n.value <= 1e-8,
-            "{name}: normals differ by {:e} rad at vertex {:?}",
-            n.value,
-            n.at
-        );
+        let r = battery(&s, 4);
+        println!("{name}\n{r}");
+        assert!(r.passed(), "{name}:\n{r}");
     }
 }
 
@@ -264,25 +199,8 @@ fn papers_worked_configurations_are_classified_and_join_c1() {
             })
             .collect();
         assert_eq!(got, kinds.to_vec(), "{fig}");
-        let c = s.continuity_report(6);
-        assert!(
-            c.value.value <= 1e-10 && c.gradient.value <= 1e-8,
-            "{fig}: {c:?}"
-        );
-        let i = s.interpolation_report();
-        assert!(
-            i.value.value <= 1e-12 && i.normal_angle.value <= 1e-9,
-            "{fig}: {i:?}"
-        );
-        let t = s.tessellate(8, 8).unwrap();
-        assert!(
-            t.missed_rays.is_empty() && t.multiple_roots.is_empty(),
-            "{fig}: {} missed, {} multiple",
-            t.missed_rays.len(),
-            t.multiple_roots.len()
-        );
-        let na = s.normal_agreement(&t);
-        assert!(na.value <= 1e-8, "{fig}: normals differ by {:e}", na.value);
+        let r = battery(&s, 8);
+        assert!(r.passed(), "{fig}:\n{r}");
     }
 }
 

@@ -1,6 +1,7 @@
 //! The `algesurf` command-line tool.
 #![forbid(unsafe_code)]
 
+mod check;
 mod convert;
 mod info;
 mod render;
@@ -31,6 +32,10 @@ enum Command {
     /// Render a mesh (or with --smooth its A-patch surface) to PNG: shaded, isophotes, zebra,
     /// patches or curvature, from preset views or an explicit camera.
     Render(render::RenderArgs),
+    /// Build the surface as `smooth` does and measure every property it must have
+    /// (interpolation, C1, normal agreement, simple roots, watertightness, parameter margins);
+    /// exit status 2 when one fails.
+    Check(check::CheckArgs),
 }
 
 /// Reads a mesh for a command; a file with neither vertices nor faces is an error (the
@@ -56,6 +61,7 @@ fn main() -> ExitCode {
         Command::Convert(a) => convert::run(a).map(|()| ExitCode::SUCCESS),
         Command::Smooth(a) => smooth::run(a),
         Command::Render(a) => render::run(a).map(|()| ExitCode::SUCCESS),
+        Command::Check(a) => check::run(a),
     };
     match result {
         Ok(code) => code,

@@ -60,7 +60,7 @@ impl SmoothNormals {
             SmoothNormals::File => NormalMethod::FromFile,
         }
     }
-    fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             SmoothNormals::Loop => "loop",
             SmoothNormals::Area => "area",
@@ -86,31 +86,12 @@ impl FreeParametersArg {
             FreeParametersArg::Linear => FreeParameterRule::Linear,
         }
     }
-    fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             FreeParametersArg::Quadric => "quadric",
             FreeParametersArg::Linear => "linear",
         }
     }
-}
-
-/// The options that build and tessellate the surface (shared by `smooth` and `render
-/// --smooth`).
-#[derive(clap::Args, Debug, Clone)]
-pub struct SurfaceArgs {
-    /// Points per patch edge minus one: face patches are triangular grids of this
-    /// resolution, edge patches have this many steps along the mesh edge.
-    #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u32).range(1..=1024))]
-    pub resolution: u32,
-    /// Steps across each edge patch (default: the resolution).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
-    pub across: Option<u32>,
-    /// Vertex normals (the gradients of the surface's function at the vertices).
-    #[arg(long, value_enum, default_value_t = SmoothNormals::Loop)]
-    pub normals: SmoothNormals,
-    /// Rule for the free parameters (the function's value at the tetrahedron apexes).
-    #[arg(long, value_enum, default_value_t = FreeParametersArg::Quadric)]
-    pub free_parameters: FreeParametersArg,
 }
 
 /// Arguments of `algesurf smooth`.
@@ -131,12 +112,30 @@ pub struct SmoothArgs {
     /// Required with INPUT; default `smooth.glb` without.
     #[arg(short, long)]
     pub output: Option<PathBuf>,
-    /// Surface construction and tessellation.
+    /// Points per patch edge minus one: face patches are triangular grids of this
+    /// resolution, edge patches have this many steps along the mesh edge.
+    #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub resolution: u32,
+    /// Steps across each edge patch (default: the resolution).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub across: Option<u32>,
+    /// How the surface is built.
     #[command(flatten)]
     pub surface: SurfaceArgs,
     /// Also write the summary as JSON to this file.
     #[arg(long)]
     pub report: Option<PathBuf>,
+}
+
+/// The options that decide the surface built on a mesh (shared by `smooth` and `check`).
+#[derive(clap::Args, Debug, Clone)]
+pub struct SurfaceArgs {
+    /// Vertex normals (the gradients of the surface's function at the vertices).
+    #[arg(long, value_enum, default_value_t = SmoothNormals::Loop)]
+    pub normals: SmoothNormals,
+    /// Rule for the free parameters (the function's value at the tetrahedron apexes).
+    #[arg(long, value_enum, default_value_t = FreeParametersArg::Quadric)]
+    pub free_parameters: FreeParametersArg,
 }
 
 type BoxError = Box<dyn std::error::Error>;
@@ -157,7 +156,7 @@ struct Timings {
 
 /// Runs `f`, timing it; with `progress`, shows a spinner named `name` on stderr once it has
 /// run for a second.
-fn stage<T>(name: &str, progress: bool, f: impl FnOnce() -> T) -> (T, f64) {
+pub(crate) fn stage<T>(name: &str, progress: bool, f: impl FnOnce() -> T) -> (T, f64) {
     let start = Instant::now();
     if !progress {
         let r = f();
@@ -317,7 +316,7 @@ fn max_deviation(input: &TriMesh, points: &[DVec3]) -> (f64, f64) {
 }
 
 /// Writes `text` to `path` through a temporary file in the same directory and a rename.
-fn write_atomic(path: &Path, text: &str) -> Result<(), BoxError> {
+pub(crate) fn write_atomic(path: &Path, text: &str) -> Result<(), BoxError> {
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
         _ => PathBuf::from("."),
@@ -335,46 +334,38 @@ fn write_atomic(path: &Path, text: &str) -> Result<(), BoxError> {
     Ok(())
 }
 
-/// What [`build_surface`] makes: the (repaired) input triangle mesh, the surface, its
-/// tessellation, what repair did and the stage timings so far.
-pub struct Smoothed {
-    /// The triangle mesh the surface interpolates (after repair).
+/// A surface built on the input as `smooth` builds it, with what the report needs.
+pub(crate) struct Built {
+    /// The triangle mesh after repair.
     pub tri: TriMesh,
-    /// The A-patch surface.
+    /// The surface.
     pub surface: ApatchSurface,
-    /// Its tessellation.
-    pub tess: Tessellation,
     /// One line naming the repairs.
     pub repair_text: String,
-    /// The repairs as JSON (for the report).
+    /// The repairs as JSON.
     pub repair_json: serde_json::Value,
+    /// Seconds of read, repair, normals, hull, function and construction.
     timings: Timings,
 }
 
-impl SurfaceArgs {
-    /// Steps across each edge patch.
-    fn across_or_resolution(&self) -> usize {
-        self.across.unwrap_or(self.resolution) as usize
-    }
+/// The name of the input in messages: its path, or the built-in mesh's description.
+pub(crate) fn source_name(input: Option<&Path>) -> String {
+    input.map_or_else(|| DEFAULT_MESH.to_string(), |p| p.display().to_string())
 }
 
-/// Reads and repairs `input` (or takes the built-in icosahedron), computes the vertex
-/// normals, builds the surface and tessellates it: the stages that `smooth` and `render
-/// --smooth` share.
+/// Reads and repairs `input` (or takes the built-in icosahedron), computes the vertex normals
+/// and builds the surface: the stages `smooth` and `check` share.
 ///
 /// # Errors
-/// Unreadable input, or a mesh the surface cannot be built on (the message names the file
-/// and the stage).
-pub fn build_surface(
+/// Unreadable input, a failed repair, no faces, no normals, or a mesh the surface cannot be
+/// built on; each message names the input and the stage.
+pub(crate) fn build(
     input: Option<&Path>,
     args: &SurfaceArgs,
     progress: bool,
-) -> Result<Smoothed, BoxError> {
-    let source = input.map_or_else(|| DEFAULT_MESH.to_string(), |p| p.display().to_string());
-    let n = args.resolution as usize;
-    let m = args.across_or_resolution();
+) -> Result<Built, BoxError> {
+    let source = source_name(input);
     let mut t = Timings::default();
-
     // Read and repair (the built-in mesh needs neither).
     let (tri, repair_text, repair_json) = match input {
         Some(path) => {
@@ -454,14 +445,9 @@ pub fn build_surface(
     })?;
     t.hull = surface.timings().hull.as_secs_f64();
     t.function = surface.timings().function.as_secs_f64();
-    let (tess, dt) = stage("tessellating", progress, || surface.tessellate(n, m));
-    t.tessellation = dt;
-    let tess = tess.map_err(|e| format!("{source}: cannot tessellate: {e}"))?;
-
-    Ok(Smoothed {
+    Ok(Built {
         tri,
         surface,
-        tess,
         repair_text,
         repair_json,
         timings: t,
@@ -479,10 +465,7 @@ pub fn build_surface(
 pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
     let progress = std::io::stderr().is_terminal();
     let total_start = Instant::now();
-    let source = args
-        .input
-        .as_ref()
-        .map_or_else(|| DEFAULT_MESH.to_string(), |p| p.display().to_string());
+    let source = source_name(args.input.as_deref());
     let output = match (&args.input, &args.output) {
         (_, Some(o)) => o.clone(),
         (None, None) => PathBuf::from("smooth.glb"),
@@ -518,19 +501,17 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
         )
         .into());
     }
-    let Smoothed {
+    let n = args.resolution as usize;
+    let m = args.across.unwrap_or(args.resolution) as usize;
+
+    let Built {
         tri,
         surface,
-        tess,
         repair_text,
         repair_json,
-        mut timings,
-    } = build_surface(args.input.as_deref(), &args.surface, progress)?;
-    let t = &mut timings;
-    let (n, m) = (
-        args.surface.resolution as usize,
-        args.surface.across_or_resolution(),
-    );
+        timings,
+    } = build(args.input.as_deref(), &args.surface, progress)?;
+    let mut t = timings;
     let refinements = surface.hull().refinements().len();
     let rounds = surface
         .hull()
@@ -539,6 +520,10 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
         .map(|r| r.round + 1)
         .max()
         .unwrap_or(0);
+
+    let (tess, dt) = stage("tessellating", progress, || surface.tessellate(n, m));
+    t.tessellation = dt;
+    let tess = tess.map_err(|e| format!("{source}: cannot tessellate: {e}"))?;
 
     let ((deviation, diagonal), dt) = stage("checking", progress, || {
         max_deviation(&tri, &tess.positions)

@@ -34,7 +34,7 @@ fn write_torus(dir: &Path) -> PathBuf {
 
 #[test]
 fn render_writes_a_png_of_the_mesh_in_every_mode() {
-    let dir = TempDir::new("modes");
+    let dir = TempDir::new("render", "modes");
     let torus = write_torus(dir.path());
     for mode in ["shaded", "isophotes", "zebra", "patches", "curvature"] {
         let out_name = format!("{mode}.png");
@@ -70,7 +70,7 @@ fn render_writes_a_png_of_the_mesh_in_every_mode() {
 
 #[test]
 fn render_smooth_on_the_built_in_icosahedron_shows_the_patches() {
-    let dir = TempDir::new("smooth");
+    let dir = TempDir::new("render", "smooth");
     let out = algesurf(
         dir.path(),
         &[
@@ -97,7 +97,7 @@ fn render_smooth_on_the_built_in_icosahedron_shows_the_patches() {
 
 #[test]
 fn render_errors_are_clear_and_leave_no_output() {
-    let dir = TempDir::new("errors");
+    let dir = TempDir::new("render", "errors");
     let torus = write_torus(dir.path());
     let t = torus.to_str().unwrap();
     let cases: [(&[&str], &str); 7] = [
@@ -135,7 +135,7 @@ fn render_errors_are_clear_and_leave_no_output() {
 
 #[test]
 fn render_writes_the_same_bytes_on_one_thread_and_on_two() {
-    let dir = TempDir::new("threads");
+    let dir = TempDir::new("render", "threads");
     let torus = write_torus(dir.path());
     let mut files = Vec::new();
     for threads in ["1", "2"] {

@@ -5,9 +5,10 @@ mod common;
 
 use std::collections::HashMap;
 
+use common::{TempDir, algesurf, text};
+
 use algesurf_io::PATCH_ID;
 use algesurf_mesh::{PolygonMesh, PropertyValues, shapes};
-use common::{TempDir, algesurf, text};
 
 /// Every undirected edge is used by exactly two triangles, once in each direction.
 fn assert_closed_manifold(mesh: &PolygonMesh) {
@@ -36,7 +37,7 @@ fn assert_closed_manifold(mesh: &PolygonMesh) {
 
 #[test]
 fn default_mesh_writes_a_closed_glb() {
-    let dir = TempDir::new("default");
+    let dir = TempDir::new("smooth", "default");
     let out = algesurf(dir.path(), &["smooth"]);
     assert!(out.status.success(), "{}", text(&out));
     let stdout = String::from_utf8_lossy(&out.stdout);
@@ -99,7 +100,7 @@ fn icosphere_obj(level: u32) -> String {
 
 #[test]
 fn icosphere_with_sphere_normals_gives_the_sphere() {
-    let dir = TempDir::new("sphere");
+    let dir = TempDir::new("smooth", "sphere");
     std::fs::write(dir.path().join("ico.obj"), icosphere_obj(1)).unwrap();
     let out = algesurf(
         dir.path(),
@@ -197,7 +198,7 @@ fn icosphere_with_sphere_normals_gives_the_sphere() {
 
 #[test]
 fn bad_input_fails_naming_the_file() {
-    let dir = TempDir::new("bad");
+    let dir = TempDir::new("smooth", "bad");
     // Missing file.
     let out = algesurf(dir.path(), &["smooth", "missing.obj", "-o", "out.ply"]);
     assert!(!out.status.success(), "{}", text(&out));
@@ -220,7 +221,7 @@ fn bad_input_fails_naming_the_file() {
 
 #[test]
 fn never_overwrites_the_input() {
-    let dir = TempDir::new("overwrite");
+    let dir = TempDir::new("smooth", "overwrite");
     let obj = icosphere_obj(0);
     std::fs::write(dir.path().join("ico.obj"), &obj).unwrap();
     for args in [

@@ -17,6 +17,9 @@ pub enum InspectError {
     /// An option is out of range (size zero, empty mesh, …).
     #[error("invalid option: {0}")]
     InvalidOption(String),
+    /// The surface cannot be measured (it cannot be tessellated, a piece is degenerate).
+    #[error("cannot measure the surface: {0}")]
+    Measurement(String),
     /// Writing a PNG failed.
     #[error("cannot write {path}: {message}")]
     Write {

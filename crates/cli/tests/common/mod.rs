@@ -1,4 +1,4 @@
-//! Helpers shared by the end-to-end tests: a temporary directory and running the binary.
+//! Helpers shared by the end-to-end tests of the `algesurf` binary.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -7,17 +7,15 @@ use std::process::{Command, Output};
 pub struct TempDir(PathBuf);
 
 impl TempDir {
-    /// `algesurf-<test target>-<name>-<pid>` in the system's temporary directory.
-    pub fn new(name: &str) -> TempDir {
-        let dir = std::env::temp_dir().join(format!(
-            "algesurf-{}-{name}-{}",
-            env!("CARGO_CRATE_NAME"),
-            std::process::id()
-        ));
+    /// `algesurf-{command}-{name}-{pid}` under the system temp dir.
+    pub fn new(command: &str, name: &str) -> TempDir {
+        let dir =
+            std::env::temp_dir().join(format!("algesurf-{command}-{name}-{}", std::process::id()));
         let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(&dir).expect("create temp dir");
         TempDir(dir)
     }
+
     /// The directory.
     pub fn path(&self) -> &Path {
         &self.0
@@ -30,7 +28,7 @@ impl Drop for TempDir {
     }
 }
 
-/// Runs the `algesurf` binary in `dir`.
+/// Runs the binary in `dir`.
 pub fn algesurf(dir: &Path, args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_algesurf"))
         .current_dir(dir)
@@ -39,7 +37,7 @@ pub fn algesurf(dir: &Path, args: &[&str]) -> Output {
         .expect("run algesurf")
 }
 
-/// Status, stdout and stderr of a run, for assertion messages.
+/// Status, stdout and stderr, for assertion messages.
 pub fn text(out: &Output) -> String {
     format!(
         "status {:?}\nstdout:\n{}\nstderr:\n{}",

@@ -1,1 +1,0 @@
-//! The check battery (placeholder module: filled by the check work).

@@ -1,0 +1,324 @@
+//! The analytic measurements: interpolation of vertices and normals, C1 across every interior
+//! facet, normal agreement across patch boundaries (Theorem 4.1 of Xu–Huang–Bajaj 2001).
+
+use super::{Element, Location, PatchSurface, Tessellated};
+use crate::InspectError;
+use algesurf_bb::Tetrahedron;
+use glam::DVec3;
+use rayon::prelude::*;
+use std::collections::{HashMap, HashSet};
+
+/// The worst case of a measured quantity and where it happened.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Worst {
+    /// The worst value (0 when nothing was measured; NaN wins over any number).
+    pub value: f64,
+    /// Where (`None` when nothing was measured).
+    pub at: Option<Location>,
+}
+
+impl Worst {
+    /// Keeps `(v, at)` if it is worse (larger, or NaN) than the current worst.
+    pub fn update(&mut self, v: f64, at: Location) {
+        let worse = self.at.is_none() || v > self.value || (v.is_nan() && !self.value.is_nan());
+        if worse {
+            self.value = v;
+            self.at = Some(at);
+        }
+    }
+
+    /// The worse of two.
+    pub fn merge(mut self, other: Worst) -> Worst {
+        if let Some(at) = other.at {
+            self.update(other.value, at);
+        }
+        self
+    }
+}
+
+/// The angle between two vectors: atan2(|a×b|, a·b) is accurate for small and large angles.
+fn angle(a: DVec3, b: DVec3) -> f64 {
+    a.cross(b).length().atan2(a.dot(b))
+}
+
+/// Exact key of a point: pieces share vertices bit for bit (they are built from the same
+/// positions and apexes), so no tolerance is involved in matching facets.
+fn key(p: DVec3) -> [u64; 3] {
+    p.to_array().map(f64::to_bits)
+}
+
+/// A facet: the keys of its three vertices, sorted.
+type FacetKey = [[u64; 3]; 3];
+
+/// Interpolation of the vertices and their normals.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct InterpolationMeasure {
+    /// `|F(p_i)| / (|∇F(p_i)| · bbox diagonal)`, over every piece containing `p_i`.
+    pub value: Worst,
+    /// Angle between `∇F(p_i)` and `n_i` (radians).
+    pub normal_angle: Worst,
+    /// (piece, vertex) evaluations.
+    pub samples: usize,
+}
+
+/// F and ∇F at every interpolated point from every piece having it as a vertex.
+pub fn interpolation<S: PatchSurface + ?Sized>(surface: &S) -> InterpolationMeasure {
+    let (points, normals) = surface.interpolation_targets();
+    let (lo, hi) = points.iter().fold(
+        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    );
+    let diag = if points.is_empty() {
+        1.0
+    } else {
+        (hi - lo).length().max(f64::MIN_POSITIVE)
+    };
+    // Position → every interpolated vertex there. A mesh may keep coincident vertices
+    // (repair does not weld vertices whose welding would make the mesh non-manifold), each
+    // with its own normal; a piece at that position belongs to one of them, so its gradient
+    // is compared with the nearest of their normals. (That cannot hide a defect: a wrong
+    // gradient would have to match the normal of another vertex there exactly.)
+    let mut index: HashMap<[u64; 3], Vec<usize>> = HashMap::new();
+    for (i, p) in points.iter().enumerate() {
+        index.entry(key(*p)).or_default().push(i);
+    }
+    (0..surface.piece_count())
+        .into_par_iter()
+        .map(|piece| {
+            let mut r = InterpolationMeasure::default();
+            for x in surface.piece_simplex(piece) {
+                if let Some(ids) = index.get(&key(x)) {
+                    let (f, g) = surface.value_gradient(piece, x);
+                    let (i, a) = ids
+                        .iter()
+                        .map(|&i| (i, angle(g, normals[i])))
+                        .reduce(|a, b| if b.1 < a.1 { b } else { a })
+                        .expect("at least one vertex per position");
+                    let at = Location::Element(Element::Vertex(i));
+                    r.samples += 1;
+                    r.value
+                        .update(f.abs() / (g.length() * diag).max(f64::MIN_POSITIVE), at);
+                    r.normal_angle.update(a, at);
+                }
+            }
+            r
+        })
+        .reduce(InterpolationMeasure::default, |a, b| InterpolationMeasure {
+            value: a.value.merge(b.value),
+            normal_angle: a.normal_angle.merge(b.normal_angle),
+            samples: a.samples + b.samples,
+        })
+}
+
+/// The measured mismatch across one interior facet.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FacetMeasure {
+    /// The two pieces sharing the facet.
+    pub pieces: (usize, usize),
+    /// Points sampled.
+    pub samples: usize,
+    /// Largest `|F₁ − F₂| / (|∇F| · facet diameter)`.
+    pub value: f64,
+    /// Largest `|∇F₁ − ∇F₂| / max(|∇F₁|, |∇F₂|)`.
+    pub gradient: f64,
+}
+
+/// C1 across the interior facets.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ContinuityMeasure {
+    /// One entry per interior facet (pair of pieces sharing a face).
+    pub facets: Vec<FacetMeasure>,
+    /// Worst value mismatch.
+    pub value: Worst,
+    /// Worst gradient mismatch.
+    pub gradient: Worst,
+}
+
+impl ContinuityMeasure {
+    /// Points sampled in all.
+    pub fn samples(&self) -> usize {
+        self.facets.iter().map(|f| f.samples).sum()
+    }
+
+    /// Fewest points sampled on one facet (0 when there are no facets).
+    pub fn min_facet_samples(&self) -> usize {
+        self.facets.iter().map(|f| f.samples).min().unwrap_or(0)
+    }
+}
+
+/// Samples value and gradient of the two pieces on either side of every interior facet on
+/// the barycentric grid of `level`. Points on the segment between two interpolated vertices
+/// are skipped: there the rational blends of (4.1)/(4.7) are 0/0 (they vanish to second
+/// order, so F is C1 there by continuity, but a sample would measure rounding of 0/0).
+pub fn continuity<S: PatchSurface + ?Sized>(surface: &S, level: usize) -> ContinuityMeasure {
+    let mut by_facet: HashMap<FacetKey, Vec<usize>> = HashMap::new();
+    for piece in 0..surface.piece_count() {
+        let t = surface.piece_simplex(piece);
+        for skip in 0..4 {
+            let mut k = [0, 1, 2, 3]
+                .into_iter()
+                .filter(|&v| v != skip)
+                .map(|v| key(t[v]));
+            let mut k = [k.next(), k.next(), k.next()].map(|x| x.expect("three vertices"));
+            k.sort();
+            by_facet.entry(k).or_default().push(piece);
+        }
+    }
+    let is_vertex: HashSet<[u64; 3]> = surface
+        .interpolation_targets()
+        .0
+        .iter()
+        .map(|p| key(*p))
+        .collect();
+    let mut shared: Vec<(FacetKey, (usize, usize))> = by_facet
+        .into_iter()
+        .filter(|(_, users)| users.len() == 2)
+        .map(|(facet, users)| (facet, (users[0], users[1])))
+        .collect();
+    // Deterministic order (and deterministic `Worst` locations on ties).
+    shared.sort_unstable_by_key(|&(_, pieces)| pieces);
+    let facets: Vec<FacetMeasure> = shared
+        .par_iter()
+        .map(|&(facet, (a, b))| {
+            let v = facet.map(|k| DVec3::from_array(k.map(f64::from_bits)));
+            let diam = (0..3)
+                .map(|i| v[i].distance(v[(i + 1) % 3]))
+                .fold(0.0, f64::max);
+            let on_mesh = facet.map(|k| is_vertex.contains(&k));
+            let mut m = FacetMeasure {
+                pieces: (a, b),
+                samples: 0,
+                value: 0.0,
+                gradient: 0.0,
+            };
+            for i in 0..=level {
+                for j in 0..=(level - i) {
+                    let w = [i, j, level - i - j].map(|x| x as f64 / level as f64);
+                    let on_edge =
+                        (0..3).any(|z| w[z] == 0.0 && on_mesh[(z + 1) % 3] && on_mesh[(z + 2) % 3]);
+                    if on_edge {
+                        continue;
+                    }
+                    let x = v[0] * w[0] + v[1] * w[1] + v[2] * w[2];
+                    let (fa, ga) = surface.value_gradient(a, x);
+                    let (fb, gb) = surface.value_gradient(b, x);
+                    let g = ga.length().max(gb.length());
+                    m.samples += 1;
+                    // A vanishing gradient on a facet is itself a defect (F is regular
+                    // near its zero set); dividing by 0 gives NaN/inf, which fails.
+                    m.value = nan_max(m.value, (fa - fb).abs() / (g * diam));
+                    m.gradient = nan_max(m.gradient, (ga - gb).length() / g);
+                }
+            }
+            m
+        })
+        .collect();
+    let mut out = ContinuityMeasure::default();
+    for f in &facets {
+        let at = Location::Facet(
+            surface.piece_element(f.pieces.0),
+            surface.piece_element(f.pieces.1),
+        );
+        out.value.update(f.value, at);
+        out.gradient.update(f.gradient, at);
+    }
+    out.facets = facets;
+    out
+}
+
+/// `max` that keeps NaN (a failed measurement must not be hidden by `f64::max`).
+fn nan_max(a: f64, b: f64) -> f64 {
+    if a.is_nan() || b.is_nan() {
+        f64::NAN
+    } else {
+        a.max(b)
+    }
+}
+
+/// Normal agreement across patch boundaries.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct NormalAgreement {
+    /// Largest angle (radians) between the normals of two pieces of different patches at a
+    /// boundary vertex of the tessellation.
+    pub angle: Worst,
+    /// Boundary vertices measured.
+    pub vertices: usize,
+}
+
+/// At every tessellation vertex used by two or more patches (the interpolated mesh vertices
+/// excepted, see [`Tessellated::interpolated_vertices`]), the largest angle between the
+/// normals `∇F` of the pieces of those patches whose tetrahedra contain it (pieces of one
+/// patch are compared too: on a split face they meet there as well).
+///
+/// # Errors
+/// [`InspectError::Measurement`] when a piece's tetrahedron is degenerate.
+pub fn normal_agreement<S: PatchSurface + ?Sized>(
+    surface: &S,
+    t: &Tessellated,
+) -> Result<NormalAgreement, InspectError> {
+    let tets: Vec<Tetrahedron> = (0..surface.piece_count())
+        .map(|i| {
+            Tetrahedron::new(surface.piece_simplex(i)).map_err(|e| {
+                InspectError::Measurement(format!(
+                    "the tetrahedron of {} is degenerate: {e}",
+                    surface.piece_element(i)
+                ))
+            })
+        })
+        .collect::<Result<_, _>>()?;
+    let mut patches_of: HashMap<u32, Vec<u32>> = HashMap::new();
+    for (tri, &patch) in t.triangles.iter().zip(&t.triangle_patch) {
+        for &v in tri {
+            let e = patches_of.entry(v).or_default();
+            if !e.contains(&patch) {
+                e.push(patch);
+            }
+        }
+    }
+    let mut pieces_of: HashMap<u32, Vec<usize>> = HashMap::new();
+    for &p in &t.triangle_patch {
+        pieces_of
+            .entry(p)
+            .or_insert_with(|| surface.patch_pieces(p));
+    }
+    let mut boundary: Vec<(u32, Vec<u32>)> = patches_of
+        .into_iter()
+        .filter(|(v, patches)| patches.len() >= 2 && *v as usize >= t.interpolated_vertices)
+        .collect();
+    boundary.sort_unstable_by_key(|(v, _)| *v);
+    let angle_worst = boundary
+        .par_iter()
+        .map(|(v, patches)| {
+            let x = t.positions[*v as usize];
+            let mut normals: Vec<(u32, DVec3)> = Vec::new();
+            for &patch in patches {
+                for &i in &pieces_of[&patch] {
+                    let tau = tets[i].barycentric(x);
+                    // Contained up to rounding: tessellation points on a facet have
+                    // barycentric coordinates 0 within a few ulps of the unit scale.
+                    if tau.iter().all(|&c| c >= -1e-9) {
+                        normals.push((patch, surface.value_gradient(i, x).1));
+                    }
+                }
+            }
+            let mut w = Worst::default();
+            for a in 0..normals.len() {
+                for b in a + 1..normals.len() {
+                    let at = Location::Boundary {
+                        vertex: *v as usize,
+                        patches: (
+                            surface.patch_element(normals[a].0),
+                            surface.patch_element(normals[b].0),
+                        ),
+                    };
+                    w.update(angle(normals[a].1, normals[b].1), at);
+                }
+            }
+            w
+        })
+        .reduce(Worst::default, Worst::merge);
+    Ok(NormalAgreement {
+        angle: angle_worst,
+        vertices: boundary.len(),
+    })
+}

@@ -1,0 +1,311 @@
+//! The check battery passes on surfaces Theorem 4.1 holds for, and fails — naming the right
+//! element — when one coefficient of one tetrahedron's polynomial is perturbed by hand.
+
+use algesurf_apatch::{ApatchSurface, SurfaceOptions};
+use algesurf_bb::{BbPoly, Tetrahedron};
+use algesurf_hull::Side;
+use algesurf_inspect::InspectError;
+use algesurf_inspect::check::{
+    ApatchView, CheckOptions, CheckReport, Element, InputTopology, Location, PatchSurface,
+    Tessellated, check, continuity,
+};
+use algesurf_mesh::shapes::{icosphere, torus};
+use algesurf_mesh::{NormalMethod, TriMesh, vertex_normals};
+use glam::DVec3;
+
+fn surface(mesh: &TriMesh) -> ApatchSurface {
+    let normals = vertex_normals(mesh, NormalMethod::Loop).unwrap();
+    ApatchSurface::new(mesh, &normals, &SurfaceOptions::default()).unwrap()
+}
+
+fn report(s: &ApatchSurface) -> CheckReport {
+    check(&ApatchView::new(s), &CheckOptions::default()).unwrap()
+}
+
+#[test]
+fn battery_passes_on_the_icosahedron_sphere_and_icospheres() {
+    for level in 0..=2 {
+        let s = surface(&icosphere(level));
+        let r = report(&s);
+        println!("icosphere({level})\n{r}");
+        assert!(r.passed(), "icosphere({level}):\n{r}");
+        let c1 = r.row("c1_gradient").unwrap();
+        assert!(c1.samples > 0, "C1 measured nowhere");
+        assert_eq!(r.row("euler_characteristic").unwrap().worst, 0.0);
+    }
+}
+
+#[test]
+fn battery_passes_on_a_torus_with_split_faces() {
+    let s = surface(&torus(12, 8, 1.5, 0.6));
+    assert!(
+        s.faces()
+            .iter()
+            .any(|f| matches!(f, algesurf_apatch::FaceFunction::Split(_))),
+        "the torus's saddle region has nonconvex faces"
+    );
+    let r = report(&s);
+    println!("torus(12, 8)\n{r}");
+    assert!(r.passed(), "{r}");
+    assert!(
+        r.row("closed_manifold").is_some(),
+        "a closed input is checked for a closed output"
+    );
+}
+
+/// Every interior facet gets at least 16 sample points (the "16+ points per facet").
+#[test]
+fn every_interior_facet_gets_sixteen_points() {
+    let s = surface(&torus(12, 8, 1.5, 0.6));
+    let c = continuity(&ApatchView::new(&s), CheckOptions::default().facet_level);
+    assert!(!c.facets.is_empty());
+    assert!(c.min_facet_samples() >= 16, "{}", c.min_facet_samples());
+}
+
+/// An open input (a hemisphere-like cap of the torus grid): the output is a manifold with
+/// boundary of the input's Euler characteristic, and the battery does not ask it to be closed.
+#[test]
+fn open_input_is_checked_as_a_manifold_with_boundary() {
+    let mesh = algesurf_mesh::shapes::grid(4, 3);
+    let normals = vec![DVec3::Z; mesh.vertex_count()];
+    let s = ApatchSurface::new(&mesh, &normals, &SurfaceOptions::default()).unwrap();
+    let r = report(&s);
+    assert!(r.row("manifold").is_some() && r.row("closed_manifold").is_none());
+    assert!(r.passed(), "{r}");
+}
+
+/// The surface of `inner` with `δ · B_λ(τ(x))` added to piece `piece`: exactly F with the
+/// coefficient `b_λ` of that tetrahedron's polynomial raised by δ.
+struct Perturbed<'a> {
+    inner: ApatchView<'a>,
+    piece: usize,
+    tet: Tetrahedron,
+    bump: BbPoly<f64, 4>,
+}
+
+impl<'a> Perturbed<'a> {
+    fn new(inner: ApatchView<'a>, piece: usize, lambda: [usize; 4], delta: f64) -> Self {
+        let tet = Tetrahedron::new(inner.piece_simplex(piece)).unwrap();
+        let mut bump = BbPoly::<f64, 4>::zero(3);
+        bump.set(lambda, delta);
+        Perturbed {
+            inner,
+            piece,
+            tet,
+            bump,
+        }
+    }
+}
+
+impl PatchSurface for Perturbed<'_> {
+    fn piece_count(&self) -> usize {
+        self.inner.piece_count()
+    }
+    fn piece_element(&self, piece: usize) -> Element {
+        self.inner.piece_element(piece)
+    }
+    fn piece_simplex(&self, piece: usize) -> [DVec3; 4] {
+        self.inner.piece_simplex(piece)
+    }
+    fn value_gradient(&self, piece: usize, x: DVec3) -> (f64, DVec3) {
+        let (f, g) = self.inner.value_gradient(piece, x);
+        if piece != self.piece {
+            return (f, g);
+        }
+        (
+            f + self.bump.value_at(&self.tet, x),
+            g + self.bump.gradient_at(&self.tet, x),
+        )
+    }
+    fn interpolation_targets(&self) -> (&[DVec3], &[DVec3]) {
+        self.inner.interpolation_targets()
+    }
+    fn tessellate(&self, resolution: usize) -> Result<Tessellated, InspectError> {
+        self.inner.tessellate(resolution)
+    }
+    fn patch_element(&self, patch: u32) -> Element {
+        self.inner.patch_element(patch)
+    }
+    fn patch_pieces(&self, patch: u32) -> Vec<usize> {
+        self.inner.patch_pieces(patch)
+    }
+    fn parameter_margins(&self) -> Vec<(Element, f64)> {
+        self.inner.parameter_margins()
+    }
+    fn input_topology(&self) -> InputTopology {
+        self.inner.input_topology()
+    }
+}
+
+/// Perturbs `b_{1101}` of `piece` (zero value and gradient at the vertices, so interpolation
+/// still holds; nonzero value or gradient on all four facets) and checks that C1 fails on
+/// the facets of that piece and nowhere else.
+fn assert_c1_failure_at(s: &ApatchSurface, piece: usize) {
+    let view = ApatchView::new(s);
+    let element = view.piece_element(piece);
+    // δ = 1e-6 of the coefficient scale |∇F|·edge (unit normals, unit-size meshes): far above
+    // the 1e-8 gradient threshold, far below anything that would change the tessellation.
+    let p = Perturbed::new(view, piece, [1, 1, 0, 1], 1e-6);
+    let r = check(&p, &CheckOptions::default()).unwrap();
+    println!("perturbed {element}:\n{r}");
+    assert!(!r.passed(), "the perturbation went unnoticed:\n{r}");
+    let row = r.row("c1_gradient").unwrap();
+    assert!(!row.pass);
+    let Some(Location::Facet(a, b)) = row.at else {
+        panic!("C1 failure without a facet: {:?}", row.at);
+    };
+    assert!(
+        a == element || b == element,
+        "worst facet between {a} and {b}, not at {element}"
+    );
+    assert!(
+        row.where_text().contains(&element.to_string()),
+        "{}",
+        row.where_text()
+    );
+    // Every failing facet is a facet of the perturbed piece, and it has some.
+    let c = continuity(&p, CheckOptions::default().facet_level);
+    let failing: Vec<_> = c
+        .facets
+        .iter()
+        .filter(|f| f.gradient > 1e-8 || f.value > 1e-10)
+        .collect();
+    assert!(!failing.is_empty());
+    for f in &failing {
+        assert!(
+            f.pieces.0 == piece || f.pieces.1 == piece,
+            "facet of pieces {:?} fails, but only piece {piece} was perturbed",
+            f.pieces
+        );
+    }
+    // The vertices are untouched: b_{1101} vanishes to second order there.
+    assert!(r.row("interpolation").unwrap().pass);
+    assert!(r.row("vertex_normals").unwrap().pass);
+}
+
+#[test]
+fn c1_failure_is_reported_at_the_perturbed_face_tetrahedron() {
+    let s = surface(&icosphere(1));
+    let view = ApatchView::new(&s);
+    let piece = (0..view.piece_count())
+        .rev()
+        .find(|&i| matches!(view.piece_element(i), Element::Face(..)))
+        .unwrap();
+    assert_c1_failure_at(&s, piece);
+}
+
+#[test]
+fn c1_failure_is_reported_at_the_perturbed_edge_tetrahedron() {
+    let s = surface(&icosphere(1));
+    let view = ApatchView::new(&s);
+    let piece = (0..view.piece_count())
+        .find(|&i| {
+            matches!(
+                view.piece_element(i),
+                Element::Edge(_, Some(Side::Positive))
+            )
+        })
+        .unwrap();
+    assert_c1_failure_at(&s, piece);
+}
+
+#[test]
+fn c1_failure_is_reported_at_the_perturbed_split_face_tetrahedron() {
+    let s = surface(&torus(12, 8, 1.5, 0.6));
+    let split = s
+        .faces()
+        .iter()
+        .position(|f| matches!(f, algesurf_apatch::FaceFunction::Split(_)))
+        .unwrap();
+    let view = ApatchView::new(&s);
+    let piece = (0..view.piece_count())
+        .find(|&i| view.piece_element(i) == Element::SplitFace(split, Side::Negative, 1))
+        .unwrap();
+    assert_c1_failure_at(&s, piece);
+}
+
+#[test]
+fn elements_are_named_as_in_the_paper() {
+    let facet = Location::Facet(
+        Element::Face(3, Some(Side::Positive)),
+        Element::Edge(7, Some(Side::Negative)),
+    );
+    assert_eq!(facet.to_string(), "facet between face 3 (+) and edge 7 (−)");
+    assert_eq!(Element::Vertex(5).to_string(), "vertex 5");
+    assert_eq!(Element::Face(12, None).to_string(), "face 12");
+    assert_eq!(
+        Element::SplitFace(5, Side::Negative, 2).to_string(),
+        "face 5 (−) sub-tetrahedron 2"
+    );
+}
+
+#[test]
+fn report_json_has_one_row_per_property() {
+    let s = surface(&icosphere(0));
+    let r = report(&s);
+    let j = r.to_json();
+    assert_eq!(j["passed"], true);
+    let rows = j["rows"].as_array().unwrap();
+    assert_eq!(rows.len(), r.rows.len());
+    for row in rows {
+        for field in ["property", "worst", "where", "threshold", "pass"] {
+            assert!(row.get(field).is_some(), "{field} missing in {row}");
+        }
+    }
+}
+
+#[test]
+fn zero_resolution_is_an_invalid_option() {
+    let s = surface(&icosphere(0));
+    let options = CheckOptions {
+        resolution: 0,
+        ..CheckOptions::default()
+    };
+    assert!(matches!(
+        check(&ApatchView::new(&s), &options),
+        Err(InspectError::InvalidOption(_))
+    ));
+}
+
+/// Coincident input vertices (kept apart by repair) are not a crack; a tessellation vertex
+/// repeating any position is, and so is an edge used by one triangle of a closed input.
+#[test]
+fn duplicates_and_open_edges_of_the_tessellation_are_counted() {
+    use algesurf_inspect::check::topology;
+    let p = [DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::Z];
+    // A tetrahedron's surface; vertices 0 and 4 coincide in the input.
+    let mut t = Tessellated {
+        positions: vec![p[0], p[1], p[2], p[3], p[0]],
+        triangles: vec![[0, 2, 1], [0, 1, 3], [1, 2, 3], [2, 0, 3]],
+        triangle_patch: vec![0; 4],
+        interpolated_vertices: 5,
+        ..Tessellated::default()
+    };
+    let closed = InputTopology {
+        closed: true,
+        euler_characteristic: 2,
+    };
+    let m = topology(&t, closed);
+    assert_eq!((m.bad_edges, m.duplicate_positions), (0, 0));
+    assert_eq!(m.euler_characteristic, 2);
+    // The same repeated position made by the tessellation is a duplicate.
+    t.interpolated_vertices = 4;
+    let m = topology(&t, closed);
+    assert_eq!((m.duplicate_positions, m.first_duplicate), (1, Some(4)));
+    // One triangle fewer: three open edges on a closed input.
+    t.triangles.pop();
+    let m = topology(&t, closed);
+    assert_eq!(m.bad_edges, 3);
+    assert_eq!(
+        topology(
+            &t,
+            InputTopology {
+                closed: false,
+                euler_characteristic: 1
+            }
+        )
+        .bad_edges,
+        0,
+        "an open input may have boundary edges"
+    );
+}
