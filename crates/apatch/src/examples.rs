@@ -125,27 +125,3 @@ impl WorkedExample {
         }
     }
 }
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::{ApatchSurface, FaceFunction, SurfaceOptions};
-
-    #[test]
-    fn every_worked_example_is_classified_as_section_6_says() {
-        for ex in WorkedExample::ALL {
-            let (mesh, normals) = ex.mesh_and_normals();
-            let s = ApatchSurface::new(&mesh, &normals, &SurfaceOptions::default()).unwrap();
-            let got: Vec<ExpectedFace> = s
-                .faces()
-                .iter()
-                .map(|f| match f {
-                    FaceFunction::Planar => ExpectedFace::Planar,
-                    FaceFunction::Convex { .. } => ExpectedFace::Convex,
-                    FaceFunction::Split(_) => ExpectedFace::Split,
-                })
-                .collect();
-            assert_eq!(got, ex.expected_faces(), "{}", ex.name());
-        }
-    }
-}

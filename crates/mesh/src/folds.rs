@@ -42,6 +42,7 @@ fn unit_normal(p: [DVec3; 3]) -> DVec3 {
 pub(crate) fn flip_folded_caps(
     faces: &mut [(u32, Vec<u32>)],
     pos: impl Fn(u32) -> DVec3,
+    min_area: f64,
 ) -> Vec<[u32; 2]> {
     let mut edges: HashMap<(u32, u32), Vec<usize>> = HashMap::new();
     for (k, (_, f)) in faces.iter().enumerate() {
@@ -91,8 +92,11 @@ pub(crate) fn flip_folded_caps(
         }
         let t1 = [a, d, c];
         let t2 = [d, b, c];
-        let faces_side =
-            |t: [u32; 3]| unit_normal([pos(t[0]), pos(t[1]), pos(t[2])]).dot(n_nb) > 0.0;
+        let faces_side = |t: [u32; 3]| {
+            let [p0, p1, p2] = [pos(t[0]), pos(t[1]), pos(t[2])];
+            let n = (p1 - p0).cross(p2 - p0);
+            0.5 * n.length() > min_area && n.dot(n_nb) > 0.0
+        };
         if !faces_side(t1) || !faces_side(t2) {
             continue;
         }
@@ -144,6 +148,7 @@ pub(crate) fn unfold_vertices(
     faces: &[(u32, Vec<u32>)],
     positions: &mut [DVec3],
     min_cos: f64,
+    min_area: f64,
 ) -> Vec<(u32, f64)> {
     let nv = positions.len();
     let mut vertex_faces: Vec<Vec<usize>> = vec![Vec::new(); nv];
@@ -184,6 +189,15 @@ pub(crate) fn unfold_vertices(
             affected.push(v);
             let worst_at = |positions: &mut [DVec3], lambda: f64| -> f64 {
                 positions[v as usize] = p0 + (c - p0) * lambda;
+                let degenerate = vertex_faces[v as usize].iter().any(|&k| {
+                    let t = &faces[k].1;
+                    let [a, b, d] = [0, 1, 2].map(|i| positions[t[i] as usize]);
+                    0.5 * (b - a).cross(d - a).length() <= min_area
+                });
+                if degenerate {
+                    positions[v as usize] = p0;
+                    return f64::NEG_INFINITY;
+                }
                 let w = affected
                     .iter()
                     .map(|&x| cone_best(x, &vertex_faces, faces, positions))
@@ -236,7 +250,7 @@ mod tests {
     #[test]
     fn folded_cap_is_flipped_and_faces_the_neighbours_side() {
         let (p, mut faces) = setup(-0.01);
-        let flipped = flip_folded_caps(&mut faces, |v| p[v as usize]);
+        let flipped = flip_folded_caps(&mut faces, |v| p[v as usize], 0.0);
         assert_eq!(flipped, vec![[0, 1]]);
         assert_eq!(faces[0], (7, vec![0, 3, 2]));
         assert_eq!(faces[1], (9, vec![3, 1, 2]));
@@ -273,7 +287,7 @@ mod tests {
             }
         }
         assert!(cone_best(0, &vf, &faces, &p) <= 0.0, "v is folded");
-        let moved = unfold_vertices(&faces, &mut p, 0.1);
+        let moved = unfold_vertices(&faces, &mut p, 0.1, 1e-12);
         assert!(moved.iter().any(|m| m.0 == 0), "{moved:?}");
         for v in 0..p.len() as u32 {
             assert!(cone_best(v, &vf, &faces, &p) >= 0.1, "vertex {v}");
@@ -284,7 +298,7 @@ mod tests {
     fn unfolded_cap_is_left_alone() {
         let (p, mut faces) = setup(0.01);
         let before = faces.clone();
-        assert!(flip_folded_caps(&mut faces, |v| p[v as usize]).is_empty());
+        assert!(flip_folded_caps(&mut faces, |v| p[v as usize], 0.0).is_empty());
         assert_eq!(faces, before);
     }
 }

@@ -583,9 +583,13 @@ pub fn repair(mesh: &PolygonMesh, options: &RepairOptions) -> Result<Repaired, M
         }
         report.flipped_faces = dedup_sorted(flipped);
     }
+    // Faces the fold repairs make must stay above the degenerate-face threshold (the one step
+    // 5 drops faces at, and validation flags): a face made degenerate would drop its normal
+    // out of the cone tests instead of satisfying them.
+    let min_area = options.degenerate_area * diag * diag;
     // 8b. Folded caps (after orientation: "folded" compares orientations).
     if options.flip_folded_caps {
-        report.flipped_cap_edges = crate::folds::flip_folded_caps(&mut faces, pos)
+        report.flipped_cap_edges = crate::folds::flip_folded_caps(&mut faces, pos, min_area)
             .into_iter()
             .map(|e| e.map(|v| src[v as usize]))
             .collect();
@@ -593,7 +597,7 @@ pub fn repair(mesh: &PolygonMesh, options: &RepairOptions) -> Result<Repaired, M
     // 8c. Folded vertices.
     let mut pts: Vec<DVec3> = (0..nv_split as u32).map(pos).collect();
     let moved = if options.unfold_vertices {
-        crate::folds::unfold_vertices(&faces, &mut pts, crate::DEFAULT_MIN_NORMAL_COSINE)
+        crate::folds::unfold_vertices(&faces, &mut pts, crate::DEFAULT_MIN_NORMAL_COSINE, min_area)
     } else {
         Vec::new()
     };
