@@ -209,24 +209,9 @@ fn direction_fit(samples: &[(DVec3, DVec3)]) -> Option<crate::Quadric> {
     if sigma(1) <= AMBIGUOUS_FIT * sigma(9) {
         return None;
     }
-    let q = eig.eigenvectors.column(order[0]);
-    // Back to x: q(y) with y = (x − centre)/h (the overall scale is irrelevant here).
-    let al = glam::DMat3::from_cols_array(&[
-        q[0],
-        q[3] / 2.0,
-        q[4] / 2.0,
-        q[3] / 2.0,
-        q[1],
-        q[5] / 2.0,
-        q[4] / 2.0,
-        q[5] / 2.0,
-        q[2],
-    ]);
-    let bl = DVec3::new(q[6], q[7], q[8]);
-    let a = al / h;
-    let b = bl - a * centre * 2.0;
-    let c = centre.dot(a * centre) - bl.dot(centre) + h * q[9];
-    Some(crate::Quadric { a, b, c })
+    let q: Vec<f64> = eig.eigenvectors.column(order[0]).iter().copied().collect();
+    // Back to x (the overall scale is irrelevant here).
+    Some(crate::Quadric::from_local(&q, centre, h))
 }
 
 /// Least-squares `x` with `x_a − x_b ≈ b_e` for every edge `e = (a, b)`: the normal equations

@@ -101,7 +101,14 @@ impl Quadric {
         let q = svd
             .solve(&r, tol)
             .map_err(|e| ApatchError::Degenerate(format!("quadric fit: {e}")))?;
-        // Back to x: q(y) with y = (x − centre)/h, Q = h q.
+        Ok(Quadric::from_local(q.as_slice(), centre, h))
+    }
+
+    /// The quadric `Q(x) = h·q(y)`, `y = (x − centre)/h`, from the local coefficients
+    /// `q = [a₀₀, a₁₁, a₂₂, a₀₁, a₀₂, a₁₂, b₀, b₁, b₂, c]` of
+    /// `q(y) = Σ_{k≤l} a_kl y_k y_l + Σ b_k y_k + c` (the unknowns of the fits, which are set up
+    /// in those centred, scaled coordinates to keep their systems' entries O(1)).
+    pub(crate) fn from_local(q: &[f64], centre: DVec3, h: f64) -> Quadric {
         let al = DMat3::from_cols_array(&[
             q[0],
             q[3] / 2.0,
@@ -118,6 +125,6 @@ impl Quadric {
         let a = al / h;
         let b = bl - a * centre * 2.0;
         let c = centre.dot(a * centre) - bl.dot(centre) + h * q[9];
-        Ok(Quadric { a, b, c })
+        Quadric { a, b, c }
     }
 }

@@ -207,6 +207,7 @@ mod tests {
         SurfaceArgs {
             normals: crate::smooth::SmoothNormals::Loop,
             free_parameters: crate::smooth::FreeParametersArg::Quadric,
+            gradients: crate::smooth::GradientsArg::Given,
         }
     }
 }

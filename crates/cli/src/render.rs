@@ -10,7 +10,7 @@ use algesurf_inspect::render::{
 use algesurf_mesh::{RepairOptions, TriMesh, repair};
 use glam::DVec3;
 
-use crate::smooth::{SurfaceArgs, build};
+use crate::smooth::{GridArgs, SurfaceArgs, build};
 
 /// Colouring (see the renderer's documentation).
 #[derive(clap::ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
@@ -97,13 +97,9 @@ pub struct RenderArgs {
     /// Flat colours, no lighting (shaded and patches modes).
     #[arg(long)]
     pub flat: bool,
-    /// With --smooth: points per patch edge minus one (face patches are triangular grids of
-    /// this resolution, edge patches have this many steps along the mesh edge).
-    #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u32).range(1..=1024))]
-    pub resolution: u32,
-    /// With --smooth: steps across each edge patch (default: the resolution).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
-    pub across: Option<u32>,
+    /// Tessellation resolution (with --smooth).
+    #[command(flatten)]
+    pub grid: GridArgs,
     /// Surface options (used with --smooth).
     #[command(flatten)]
     pub surface: SurfaceArgs,
@@ -187,10 +183,7 @@ pub fn run(args: &RenderArgs) -> Result<(), BoxError> {
     };
     let (mesh, source, wire_tolerance) = if args.smooth {
         let s = build(args.input.as_deref(), &args.surface, false)?;
-        let (n, m) = (
-            args.resolution as usize,
-            args.across.unwrap_or(args.resolution) as usize,
-        );
+        let (n, m) = args.grid.steps();
         let tess = s.surface.tessellate(n, m)?;
         let mut mesh = RenderMesh::from(&tess);
         // The input (control) mesh's edges are chords of the surface: on convex parts they

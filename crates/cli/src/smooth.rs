@@ -13,8 +13,8 @@ use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
 use algesurf_apatch::{
-    ApatchError, ApatchSurface, FaceFunction, FreeParameterRule, PatchKind, SurfaceOptions,
-    Tessellation,
+    ApatchError, ApatchSurface, FaceFunction, FreeParameterRule, GradientMagnitudes, PatchKind,
+    SurfaceOptions, Tessellation,
 };
 use algesurf_io::{PATCH_ID, WriteOptions};
 use algesurf_mesh::{
@@ -79,6 +79,25 @@ pub enum FreeParametersArg {
     Linear,
 }
 
+/// How `--gradients` reads the lengths of the vertex normals.
+#[derive(clap::ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
+pub enum GradientsArg {
+    /// As given (unit normals, or gradients read from the file).
+    Given,
+    /// Recovered from local quadric fits of the normals' directions: ellipsoids, cylinders
+    /// and saddles sampled with unit normals are then reproduced exactly.
+    Quadric,
+}
+
+impl GradientsArg {
+    fn magnitudes(self) -> GradientMagnitudes {
+        match self {
+            GradientsArg::Given => GradientMagnitudes::AsGiven,
+            GradientsArg::Quadric => GradientMagnitudes::QuadricConsistent,
+        }
+    }
+}
+
 impl FreeParametersArg {
     fn rule(self) -> FreeParameterRule {
         match self {
@@ -112,6 +131,20 @@ pub struct SmoothArgs {
     /// Required with INPUT; default `smooth.glb` without.
     #[arg(short, long)]
     pub output: Option<PathBuf>,
+    /// Tessellation resolution.
+    #[command(flatten)]
+    pub grid: GridArgs,
+    /// How the surface is built.
+    #[command(flatten)]
+    pub surface: SurfaceArgs,
+    /// Also write the summary as JSON to this file.
+    #[arg(long)]
+    pub report: Option<PathBuf>,
+}
+
+/// The tessellation resolution (shared by `smooth` and `render --smooth`).
+#[derive(clap::Args, Debug, Clone)]
+pub struct GridArgs {
     /// Points per patch edge minus one: face patches are triangular grids of this
     /// resolution, edge patches have this many steps along the mesh edge.
     #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u32).range(1..=1024))]
@@ -119,12 +152,16 @@ pub struct SmoothArgs {
     /// Steps across each edge patch (default: the resolution).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub across: Option<u32>,
-    /// How the surface is built.
-    #[command(flatten)]
-    pub surface: SurfaceArgs,
-    /// Also write the summary as JSON to this file.
-    #[arg(long)]
-    pub report: Option<PathBuf>,
+}
+
+impl GridArgs {
+    /// `(n, m)`: steps along and across the patches.
+    pub fn steps(&self) -> (usize, usize) {
+        (
+            self.resolution as usize,
+            self.across.unwrap_or(self.resolution) as usize,
+        )
+    }
 }
 
 /// The options that decide the surface built on a mesh (shared by `smooth` and `check`).
@@ -136,6 +173,9 @@ pub struct SurfaceArgs {
     /// Rule for the free parameters (the function's value at the tetrahedron apexes).
     #[arg(long, value_enum, default_value_t = FreeParametersArg::Quadric)]
     pub free_parameters: FreeParametersArg,
+    /// What the lengths of the normals mean (the gradients of the surface's function).
+    #[arg(long, value_enum, default_value_t = GradientsArg::Given)]
+    pub gradients: GradientsArg,
 }
 
 type BoxError = Box<dyn std::error::Error>;
@@ -425,6 +465,7 @@ pub(crate) fn build(
 
     let options = SurfaceOptions {
         free_parameters: args.free_parameters.rule(),
+        gradient_magnitudes: args.gradients.magnitudes(),
         ..SurfaceOptions::default()
     };
     // Ids in hull and surface errors are those of the repaired mesh.
@@ -501,8 +542,7 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
         )
         .into());
     }
-    let n = args.resolution as usize;
-    let m = args.across.unwrap_or(args.resolution) as usize;
+    let (n, m) = args.grid.steps();
 
     let Built {
         tri,

@@ -81,14 +81,20 @@ fn default_mesh_writes_a_closed_glb() {
 
 /// An OBJ of the icosphere with the exact radial normals as `vn` lines.
 fn icosphere_obj(level: u32) -> String {
+    ellipsoid_obj(level, glam::DVec3::ONE)
+}
+
+/// An OBJ of the icosphere scaled by `axes` with the ellipsoid's exact *unit* normals.
+fn ellipsoid_obj(level: u32, axes: glam::DVec3) -> String {
     use std::fmt::Write;
     let m = shapes::icosphere(level);
     let mut s = String::new();
     for p in m.positions() {
-        let _ = writeln!(s, "v {:?} {:?} {:?}", p.x, p.y, p.z);
+        let q = *p * axes;
+        let _ = writeln!(s, "v {:?} {:?} {:?}", q.x, q.y, q.z);
     }
     for p in m.positions() {
-        let n = p.normalize();
+        let n = (*p / axes).normalize();
         let _ = writeln!(s, "vn {:?} {:?} {:?}", n.x, n.y, n.z);
     }
     for t in m.triangles() {
@@ -96,6 +102,51 @@ fn icosphere_obj(level: u32) -> String {
         let _ = writeln!(s, "f {a}//{a} {b}//{b} {c}//{c}");
     }
     s
+}
+
+/// `--gradients quadric` recovers the gradient magnitudes the unit normals lack, so the
+/// ellipsoid is reproduced (with `given`, unit normals are not its gradients and it is not).
+#[test]
+fn ellipsoid_from_unit_normals_with_recovered_gradients() {
+    let dir = TempDir::new("smooth", "ellipsoid");
+    let axes = glam::DVec3::new(1.5, 1.0, 0.7);
+    std::fs::write(dir.path().join("ell.obj"), ellipsoid_obj(2, axes)).unwrap();
+    let mut worst = Vec::new();
+    for g in ["quadric", "given"] {
+        let out = algesurf(
+            dir.path(),
+            &[
+                "smooth",
+                "ell.obj",
+                "-o",
+                "ell.ply",
+                "--normals",
+                "file",
+                "--gradients",
+                g,
+                "--resolution",
+                "4",
+            ],
+        );
+        assert!(out.status.success(), "{}", text(&out));
+        let mesh = algesurf_io::read(dir.path().join("ell.ply")).expect("read ell.ply");
+        worst.push(
+            mesh.positions
+                .iter()
+                .map(|p| ((*p / axes).length() - 1.0).abs())
+                .fold(0.0, f64::max),
+        );
+    }
+    assert!(
+        worst[0] <= 1e-9,
+        "quadric: max |‖p/axes‖ − 1| = {:e}",
+        worst[0]
+    );
+    assert!(
+        worst[1] > 1e-4,
+        "given: max |‖p/axes‖ − 1| = {:e}",
+        worst[1]
+    );
 }
 
 #[test]
