@@ -15,13 +15,13 @@
 //!   that opens its faces' normals (and its neighbours') to the required cone. This changes the
 //!   data, so it is reported vertex by vertex with the distance moved.
 
+use crate::fasthash::FastMap;
 use glam::DVec3;
-use std::collections::HashMap;
 
 /// The least angle that makes a triangle a cap: 150°. A cap's corner lies within
 /// `tan(15°)·½` of its longest edge's length from that edge, so after the flip its two new
 /// triangles lie close to the neighbour's plane.
-pub(crate) const CAP_MIN_ANGLE_COS: f64 = -0.866_025_403_784_438_6; // cos 150°
+const CAP_MIN_ANGLE_COS: f64 = -0.866_025_403_784_438_6; // cos 150°
 
 fn key(a: u32, b: u32) -> (u32, u32) {
     if a < b { (a, b) } else { (b, a) }
@@ -44,7 +44,7 @@ pub(crate) fn flip_folded_caps(
     pos: impl Fn(u32) -> DVec3,
     min_area: f64,
 ) -> Vec<[u32; 2]> {
-    let mut edges: HashMap<(u32, u32), Vec<usize>> = HashMap::new();
+    let mut edges: FastMap<(u32, u32), Vec<usize>> = FastMap::default();
     for (k, (_, f)) in faces.iter().enumerate() {
         for i in 0..f.len() {
             edges
@@ -133,6 +133,24 @@ fn cone_best(v: u32, vertex_faces: &[Vec<usize>], faces: &[(u32, Vec<u32>)], p: 
     crate::cone_axis(&normals).map_or(f64::INFINITY, |(_, best)| best)
 }
 
+/// Whether every face normal of vertex `v` makes at least `min_cos` with their normalised
+/// sum. Sufficient for "not folded" (the sum is then an axis that reaches `min_cos`), and
+/// a handful of dot products where [`cone_best`] runs an optimisation: every vertex of the
+/// mesh is screened on each pass, and almost all pass this test.
+fn mean_axis_fits(
+    v: u32,
+    vertex_faces: &[Vec<usize>],
+    faces: &[(u32, Vec<u32>)],
+    p: &[DVec3],
+    min_cos: f64,
+) -> bool {
+    let mut normals = vertex_faces[v as usize]
+        .iter()
+        .map(|&k| face_normal(&faces[k].1, p));
+    let m = normals.clone().sum::<DVec3>().normalize_or_zero();
+    m != DVec3::ZERO && normals.all(|n| n == DVec3::ZERO || n.dot(m) >= min_cos)
+}
+
 /// Moves every *folded* vertex — one whose triangles' normals fit in no cone of half-angle
 /// `acos(min_cos)` — towards the centroid of its neighbours, `p + λ (c − p)`, by the least
 /// `λ ∈ {1/32, 2/32, …, 1}` for which it and all its neighbours reach `min_cos`, or, if none
@@ -178,6 +196,7 @@ pub(crate) fn unfold_vertices(
         for v in 0..nv as u32 {
             if polygon_vertex[v as usize]
                 || vertex_faces[v as usize].is_empty()
+                || mean_axis_fits(v, &vertex_faces, faces, positions, min_cos)
                 || cone_best(v, &vertex_faces, faces, positions) >= min_cos
             {
                 continue;
