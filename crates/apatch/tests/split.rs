@@ -2,6 +2,7 @@
 //! quadric data are reproduced exactly.
 #![allow(clippy::needless_range_loop)] // index loops mirror the formulas
 
+use algesurf_apatch::examples::WorkedExample;
 use algesurf_apatch::{Quadric, SplitFace, VertexData};
 use algesurf_bb::Tetrahedron;
 use glam::DVec3;
@@ -92,20 +93,21 @@ fn split_face_reproduces_the_sphere_on_both_sides() {
     }
 }
 
-/// Fig. 9 of the paper: n1 = n2 = (1,0,1), n3 = (0,−1,1.5) — face [p1 p2 p3] is nonconvex.
+/// Face [p1 p2 p3] of Fig. 9 (`WorkedExample::Fig9`: n1 = n2 = (1,0,1), n3 = (0,−1,1.5)),
+/// which is nonconvex: its positions and unit normals.
+fn fig9_face() -> ([DVec3; 3], [DVec3; 3]) {
+    let (mesh, normals) = WorkedExample::Fig9.mesh_and_normals();
+    let tri = mesh.triangles()[0];
+    (
+        tri.map(|v| mesh.positions()[v as usize]),
+        tri.map(|v| normals[v as usize]),
+    )
+}
+
+/// Fig. 9 of the paper: face [p1 p2 p3] is nonconvex.
 #[test]
 fn fig9_split_face_is_c1_across_every_internal_facet() {
-    let p = [
-        DVec3::new(-2.0, 0.0, 0.0),
-        DVec3::new(2.0, 0.0, 0.0),
-        DVec3::new(0.0, 4.0, -1.0),
-    ];
-    let g = [
-        DVec3::new(1.0, 0.0, 1.0),
-        DVec3::new(1.0, 0.0, 1.0),
-        DVec3::new(0.0, -1.0, 1.5),
-    ]
-    .map(|x| x.normalize());
+    let (p, g) = fig9_face();
     let samples: Vec<(DVec3, DVec3)> = (0..3).map(|i| (p[i], g[i])).collect();
     let q = Quadric::fit(&samples).unwrap();
     let s = build(p, g, &q, 1.0, [1.0, -1.0]);
@@ -116,17 +118,7 @@ fn fig9_split_face_is_c1_across_every_internal_facet() {
 
 #[test]
 fn a_perturbed_split_face_is_measurably_not_c1() {
-    let p = [
-        DVec3::new(-2.0, 0.0, 0.0),
-        DVec3::new(2.0, 0.0, 0.0),
-        DVec3::new(0.0, 4.0, -1.0),
-    ];
-    let g = [
-        DVec3::new(1.0, 0.0, 1.0),
-        DVec3::new(1.0, 0.0, 1.0),
-        DVec3::new(0.0, -1.0, 1.5),
-    ]
-    .map(|x| x.normalize());
+    let (p, g) = fig9_face();
     let q = Quadric::fit(&(0..3).map(|i| (p[i], g[i])).collect::<Vec<_>>()).unwrap();
     let mut s = build(p, g, &q, 1.0, [1.0, -1.0]);
     let c = s.sides[0].polys[0].coeff([1, 0, 1, 1]);

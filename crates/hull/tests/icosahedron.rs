@@ -9,6 +9,18 @@ use common::{
 };
 use glam::DVec3;
 
+/// Every face and every edge of the hull has convexity `c`.
+fn assert_everything_is(hull: &SimplicialHull, c: Convexity) {
+    assert!(
+        hull.faces().iter().all(|f| f.convexity == c),
+        "a face is not {c:?}"
+    );
+    assert!(
+        hull.edges().iter().all(|e| e.convexity == c),
+        "an edge is not {c:?}"
+    );
+}
+
 #[test]
 fn icosahedron_is_positive_convex_and_disjoint() {
     let (p, f) = icosahedron();
@@ -107,16 +119,7 @@ fn icospheres_levels_1_to_3() {
         let (p, f) = icosphere(level);
         let hull = SimplicialHull::new(&p, &f, &p, &HullOptions::default()).unwrap();
         assert!(hull.refinements().is_empty(), "level {level}");
-        assert!(
-            hull.faces()
-                .iter()
-                .all(|f| f.convexity == Convexity::PositiveConvex)
-        );
-        assert!(
-            hull.edges()
-                .iter()
-                .all(|e| e.convexity == Convexity::PositiveConvex)
-        );
+        assert_everything_is(&hull, Convexity::PositiveConvex);
         assert!(min_relative_measure(&hull) > 0.01);
         check_apex_properties(&hull);
         if level == 1 {
@@ -133,16 +136,7 @@ fn inside_out_sphere_is_negative_convex() {
     let f: Vec<[u32; 3]> = f.iter().map(|t| [t[0], t[2], t[1]]).collect();
     let n: Vec<DVec3> = p.iter().map(|&x| -x).collect();
     let hull = SimplicialHull::new(&p, &f, &n, &HullOptions::default()).unwrap();
-    assert!(
-        hull.faces()
-            .iter()
-            .all(|f| f.convexity == Convexity::NegativeConvex)
-    );
-    assert!(
-        hull.edges()
-            .iter()
-            .all(|e| e.convexity == Convexity::NegativeConvex)
-    );
+    assert_everything_is(&hull, Convexity::NegativeConvex);
     assert!(
         hull.faces()
             .iter()
