@@ -23,6 +23,13 @@ use glam::DVec3;
 /// triangles lie close to the neighbour's plane.
 const CAP_MIN_ANGLE_COS: f64 = -0.866_025_403_784_438_6; // cos 150°
 
+/// The faces of an edge: the first two met, and how many in all (saturating).
+#[derive(Clone, Copy)]
+struct EdgeFaces {
+    faces: [usize; 2],
+    count: u8,
+}
+
 fn key(a: u32, b: u32) -> (u32, u32) {
     if a < b { (a, b) } else { (b, a) }
 }
@@ -44,36 +51,62 @@ pub(crate) fn flip_folded_caps(
     pos: impl Fn(u32) -> DVec3,
     min_area: f64,
 ) -> Vec<[u32; 2]> {
-    let mut edges: FastMap<(u32, u32), Vec<usize>> = FastMap::default();
-    for (k, (_, f)) in faces.iter().enumerate() {
-        for i in 0..f.len() {
-            edges
-                .entry(key(f[i], f[(i + 1) % f.len()]))
-                .or_default()
-                .push(k);
-        }
-    }
-    let mut flipped = Vec::new();
-    for k in 0..faces.len() {
-        let f = faces[k].1.clone();
+    // Caps first (one angle test per triangle): most meshes have none, and then the edge map
+    // below is not needed at all.
+    let obtuse_corner = |f: &[u32]| -> Option<usize> {
         if f.len() != 3 {
-            continue;
+            return None;
         }
         let p = [pos(f[0]), pos(f[1]), pos(f[2])];
-        // Obtuse corner c = f[i]; the longest edge is the one opposite it.
-        let Some(i) = (0..3).find(|&i| {
+        (0..3).find(|&i| {
             let (u, v) = (p[(i + 1) % 3] - p[i], p[(i + 2) % 3] - p[i]);
             let d = u.length() * v.length();
             d > 0.0 && u.dot(v) < CAP_MIN_ANGLE_COS * d
-        }) else {
+        })
+    };
+    // In face order, as one pass over all faces would meet them; a flip can make the
+    // neighbour a cap, which is then met later in that order too.
+    let mut caps: std::collections::BTreeSet<usize> = (0..faces.len())
+        .filter(|&k| obtuse_corner(&faces[k].1).is_some())
+        .collect();
+    if caps.is_empty() {
+        return Vec::new();
+    }
+    // Per undirected edge: its first two faces and how many it has (no allocation per edge).
+    let mut edges: FastMap<(u32, u32), EdgeFaces> = FastMap::default();
+    edges.reserve(faces.len() * 3 / 2);
+    for (k, (_, f)) in faces.iter().enumerate() {
+        for i in 0..f.len() {
+            let e = edges
+                .entry(key(f[i], f[(i + 1) % f.len()]))
+                .or_insert(EdgeFaces {
+                    faces: [k, k],
+                    count: 0,
+                });
+            if e.count < 2 {
+                e.faces[e.count as usize] = k;
+            }
+            e.count = e.count.saturating_add(1);
+        }
+    }
+    let mut flipped = Vec::new();
+    while let Some(k) = caps.pop_first() {
+        // An earlier flip may have rewritten this face: test it again as it is now.
+        let Some(i) = obtuse_corner(&faces[k].1) else {
             continue;
         };
+        let f = [faces[k].1[0], faces[k].1[1], faces[k].1[2]];
+        let p = [pos(f[0]), pos(f[1]), pos(f[2])];
         let (c, a, b) = (f[i], f[(i + 1) % 3], f[(i + 2) % 3]);
-        let users = &edges[&key(a, b)];
-        if users.len() != 2 {
+        let users = edges[&key(a, b)];
+        if users.count != 2 {
             continue;
         }
-        let g = if users[0] == k { users[1] } else { users[0] };
+        let g = if users.faces[0] == k {
+            users.faces[1]
+        } else {
+            users.faces[0]
+        };
         let gf = &faces[g].1;
         if gf.len() != 3 {
             continue;
@@ -103,10 +136,16 @@ pub(crate) fn flip_folded_caps(
         // Update the edge map: a b disappears, c d appears; b c moves from k to the second
         // new face and a d from g to the first.
         edges.remove(&key(a, b));
-        edges.insert(key(c, d), vec![k, g]);
+        edges.insert(
+            key(c, d),
+            EdgeFaces {
+                faces: [k, g],
+                count: 2,
+            },
+        );
         for (e, from, to) in [(key(b, c), k, g), (key(a, d), g, k)] {
             if let Some(u) = edges.get_mut(&e) {
-                for x in u.iter_mut().filter(|x| **x == from) {
+                for x in u.faces.iter_mut().filter(|x| **x == from) {
                     *x = to;
                 }
             }
@@ -114,6 +153,9 @@ pub(crate) fn flip_folded_caps(
         faces[k].1 = t1.to_vec();
         faces[g].1 = t2.to_vec();
         flipped.push([a, b]);
+        if g > k {
+            caps.insert(g);
+        }
     }
     flipped
 }
@@ -123,38 +165,89 @@ fn face_normal(t: &[u32], p: &[DVec3]) -> DVec3 {
     unit_normal([p[t[0] as usize], p[t[1] as usize], p[t[2] as usize]])
 }
 
+/// The triangles around each vertex, as one flat list with offsets (one allocation for the
+/// whole mesh instead of one per vertex), and which vertices also have a polygon face (the
+/// unfolding leaves those where they are).
+struct VertexTriangles {
+    offsets: Vec<usize>,
+    faces: Vec<usize>,
+    polygon_vertex: Vec<bool>,
+}
+
+impl VertexTriangles {
+    fn new(faces: &[(u32, Vec<u32>)], nv: usize) -> VertexTriangles {
+        let mut offsets = vec![0usize; nv + 1];
+        let mut polygon_vertex = vec![false; nv];
+        for (_, f) in faces {
+            for &v in f {
+                if f.len() == 3 {
+                    offsets[v as usize + 1] += 1;
+                } else {
+                    polygon_vertex[v as usize] = true;
+                }
+            }
+        }
+        for v in 0..nv {
+            offsets[v + 1] += offsets[v];
+        }
+        let mut fill = offsets.clone();
+        let mut list = vec![0usize; offsets[nv]];
+        for (k, (_, f)) in faces.iter().enumerate() {
+            if f.len() == 3 {
+                for &v in f {
+                    list[fill[v as usize]] = k;
+                    fill[v as usize] += 1;
+                }
+            }
+        }
+        VertexTriangles {
+            offsets,
+            faces: list,
+            polygon_vertex,
+        }
+    }
+
+    fn of(&self, v: u32) -> &[usize] {
+        &self.faces[self.offsets[v as usize]..self.offsets[v as usize + 1]]
+    }
+}
+
 /// The best smallest cosine of vertex `v`'s faces' normals with one direction (see
 /// [`crate::cone_axis`]); `+∞` for a vertex with no non-degenerate triangle.
-fn cone_best(v: u32, vertex_faces: &[Vec<usize>], faces: &[(u32, Vec<u32>)], p: &[DVec3]) -> f64 {
-    let normals: Vec<DVec3> = vertex_faces[v as usize]
+fn cone_best(v: u32, around: &VertexTriangles, faces: &[(u32, Vec<u32>)], p: &[DVec3]) -> f64 {
+    let normals: Vec<DVec3> = around
+        .of(v)
         .iter()
         .map(|&k| face_normal(&faces[k].1, p))
         .collect();
     crate::cone_axis(&normals).map_or(f64::INFINITY, |(_, best)| best)
 }
 
-/// Whether every face normal of vertex `v` makes at least `min_cos` with their normalised
-/// sum. Sufficient for "not folded" (the sum is then an axis that reaches `min_cos`), and
-/// a handful of dot products where [`cone_best`] runs an optimisation: every vertex of the
-/// mesh is screened on each pass, and almost all pass this test.
-fn mean_axis_fits(
-    v: u32,
-    vertex_faces: &[Vec<usize>],
-    faces: &[(u32, Vec<u32>)],
-    p: &[DVec3],
-    min_cos: f64,
-) -> bool {
-    let mut normals = vertex_faces[v as usize]
+/// Whether every face normal of vertex `v` (from `normals`, one per face) makes at least
+/// `min_cos` with their normalised sum. Sufficient for "not folded" (the sum is then an axis
+/// that reaches `min_cos`), and a handful of dot products where [`cone_best`] runs an
+/// optimisation: every vertex of the mesh is screened on each pass, and almost all pass this
+/// test.
+fn mean_axis_fits(v: u32, around: &VertexTriangles, normals: &[DVec3], min_cos: f64) -> bool {
+    let of = around.of(v);
+    let m = of
         .iter()
-        .map(|&k| face_normal(&faces[k].1, p));
-    let m = normals.clone().sum::<DVec3>().normalize_or_zero();
-    m != DVec3::ZERO && normals.all(|n| n == DVec3::ZERO || n.dot(m) >= min_cos)
+        .map(|&k| normals[k])
+        .sum::<DVec3>()
+        .normalize_or_zero();
+    m != DVec3::ZERO
+        && of.iter().all(|&k| {
+            let n = normals[k];
+            n == DVec3::ZERO || n.dot(m) >= min_cos
+        })
 }
 
 /// Moves every *folded* vertex — one whose triangles' normals fit in no cone of half-angle
 /// `acos(min_cos)` — towards the centroid of its neighbours, `p + λ (c − p)`, by the least
 /// `λ ∈ {1/32, 2/32, …, 1}` for which it and all its neighbours reach `min_cos`, or, if none
-/// does, by the `λ` that makes the worst of them best (when that improves on not moving).
+/// does, by the `λ` that makes the worst of them best (when that improves on not moving). A `λ` that
+/// leaves a face of the vertex with area at most `min_area` is never taken (a degenerate face
+/// has no normal, so it would drop out of the cone test instead of passing it).
 /// Three passes, as moving one vertex can fold a neighbour. Returns `(vertex, distance moved)`
 /// for every vertex moved, in the order moved. Only vertices all of whose faces are triangles
 /// are considered.
@@ -169,19 +262,22 @@ pub(crate) fn unfold_vertices(
     min_area: f64,
 ) -> Vec<(u32, f64)> {
     let nv = positions.len();
-    let mut vertex_faces: Vec<Vec<usize>> = vec![Vec::new(); nv];
-    let mut polygon_vertex = vec![false; nv];
-    for (k, (_, f)) in faces.iter().enumerate() {
-        for &v in f {
+    let around = VertexTriangles::new(faces, nv);
+    // Unit normals per face (zero for polygons and degenerate triangles), kept up to date as
+    // vertices move: the screening reads them instead of recomputing each face per corner.
+    let mut normals: Vec<DVec3> = faces
+        .iter()
+        .map(|(_, f)| {
             if f.len() == 3 {
-                vertex_faces[v as usize].push(k);
+                face_normal(f, positions)
             } else {
-                polygon_vertex[v as usize] = true;
+                DVec3::ZERO
             }
-        }
-    }
+        })
+        .collect();
     let ring = |v: u32| -> Vec<u32> {
-        let mut r: Vec<u32> = vertex_faces[v as usize]
+        let mut r: Vec<u32> = around
+            .of(v)
             .iter()
             .flat_map(|&k| faces[k].1.iter().copied())
             .filter(|&w| w != v)
@@ -194,10 +290,10 @@ pub(crate) fn unfold_vertices(
     for _pass in 0..3 {
         let mut any = false;
         for v in 0..nv as u32 {
-            if polygon_vertex[v as usize]
-                || vertex_faces[v as usize].is_empty()
-                || mean_axis_fits(v, &vertex_faces, faces, positions, min_cos)
-                || cone_best(v, &vertex_faces, faces, positions) >= min_cos
+            if around.polygon_vertex[v as usize]
+                || around.of(v).is_empty()
+                || mean_axis_fits(v, &around, &normals, min_cos)
+                || cone_best(v, &around, faces, positions) >= min_cos
             {
                 continue;
             }
@@ -208,7 +304,7 @@ pub(crate) fn unfold_vertices(
             affected.push(v);
             let worst_at = |positions: &mut [DVec3], lambda: f64| -> f64 {
                 positions[v as usize] = p0 + (c - p0) * lambda;
-                let degenerate = vertex_faces[v as usize].iter().any(|&k| {
+                let degenerate = around.of(v).iter().any(|&k| {
                     let t = &faces[k].1;
                     let [a, b, d] = [0, 1, 2].map(|i| positions[t[i] as usize]);
                     0.5 * (b - a).cross(d - a).length() <= min_area
@@ -219,7 +315,7 @@ pub(crate) fn unfold_vertices(
                 }
                 let w = affected
                     .iter()
-                    .map(|&x| cone_best(x, &vertex_faces, faces, positions))
+                    .map(|&x| cone_best(x, &around, faces, positions))
                     .fold(f64::INFINITY, f64::min);
                 positions[v as usize] = p0;
                 w
@@ -239,6 +335,9 @@ pub(crate) fn unfold_vertices(
             }
             if best.0 > 0.0 {
                 positions[v as usize] = p0 + (c - p0) * best.0;
+                for &k in around.of(v) {
+                    normals[k] = face_normal(&faces[k].1, positions);
+                }
                 moved.push((v, (c - p0).length() * best.0));
                 any = true;
             }
@@ -299,12 +398,7 @@ mod tests {
         let faces: Vec<(u32, Vec<u32>)> = (0..8u32)
             .map(|i| (i, vec![0, 1 + i, 1 + (i + 1) % 8]))
             .collect();
-        let mut vf: Vec<Vec<usize>> = vec![Vec::new(); p.len()];
-        for (k, (_, f)) in faces.iter().enumerate() {
-            for &v in f {
-                vf[v as usize].push(k);
-            }
-        }
+        let vf = VertexTriangles::new(&faces, p.len());
         assert!(cone_best(0, &vf, &faces, &p) <= 0.0, "v is folded");
         let moved = unfold_vertices(&faces, &mut p, 0.1, 1e-12);
         assert!(moved.iter().any(|m| m.0 == 0), "{moved:?}");
