@@ -359,10 +359,11 @@ const CONTAINMENT_ROUNDING: f64 = 16.0;
 /// The rounding of a computed coordinate: `x` carries ~ε·M (M the size of the coordinates),
 /// and the barycentric map's dual vectors carry a relative error ~ε·κ (κ = diameter ·
 /// max |∇τ_i|, see `Simplex::new`), so `|δτ_i| ≲ ε·(M + κ·diameter)·|∇τ_i|`. A fixed
-/// tolerance in τ (it was 1e-9) is both too wide on well-shaped tetrahedra — it took in a piece
-/// on the far side of a split face's plane, 4e-11 away, whose extrapolated gradient differs
-/// by the Hessian jump across that plane (2.9e-8 on fandisk) — and too narrow on thin ones,
-/// where the rounding of τ reaches 1e-10 at height 2e-5 and |x| ≈ 15. Snapping the coordinates
+/// tolerance in τ (it was 1e-9) ignores that scale: it is far too wide on well-shaped
+/// tetrahedra — it took in a piece on the far side of a split face's plane, 4e-11 away, whose
+/// extrapolated gradient differs by the Hessian jump across that plane (2.9e-8 on fandisk) —
+/// and only ten times the rounding on thin ones (rounding moves τ by ~1e-10 at height 2e-5 and
+/// |x| ≈ 15, and by more on thinner ones). Snapping the coordinates
 /// that vanish up to rounding puts a vertex the tessellation placed on a facet back on it,
 /// where C1 says the pieces' gradients agree; it moves the point by rounding only, so a real
 /// jump of ∇F across the facet is seen in full.
