@@ -28,20 +28,6 @@ use std::time::Instant;
 
 const FOLDED: [&str; 3] = ["cow.obj", "stanford-bunny.obj", "suzanne.obj"];
 
-/// Meshes that smooth but where the battery finds properties that do not hold, with those
-/// properties: a finding, tracked here until fixed (any other failing property, or one of
-/// these on another mesh, fails the test).
-///
-/// fandisk: across both face facets of the positive edge tetrahedron of edge 1128 (faces 13396,
-/// split, and 13530, convex) ∇F jumps by 2.3e-8 where |∇F| ≈ 0.73 (1.5e-8 relative at the
-/// sampled points off the mesh edge, threshold 1e-8), and patch normals differ by 2.9e-8 rad
-/// near edge 3161. The edge cubic differs from both neighbours alike, while its C1 data agree
-/// (`overlap_mismatch` 5e-14) and the split solve is exact (residual 1e-12): the likely cause
-/// is rounding amplified by a thin edge tetrahedron on the fandisk's nearly flat faces (the
-/// barycentric gradients scale as 1/height). Everything else holds.
-const KNOWN_FAILURES: [(&str, &[&str]); 1] =
-    [("fandisk.obj", &["c1_gradient", "normal_agreement"])];
-
 #[test]
 fn every_corpus_mesh_smooths_or_names_its_fold() {
     let Some(dir) = std::env::var_os("ALGESURF_CORPUS") else {
@@ -111,13 +97,8 @@ fn every_corpus_mesh_smooths_or_names_its_fold() {
             margin
         );
         println!("{report}\n");
-        let known: &[&str] = KNOWN_FAILURES
-            .iter()
-            .find(|(mesh, _)| *mesh == name)
-            .map_or(&[], |(_, properties)| properties);
         let failed: Vec<String> = report
             .failures()
-            .filter(|r| !known.contains(&r.property))
             .map(|r| format!("{} = {:e} at {}", r.property, r.worst, r.where_text()))
             .collect();
         if !failed.is_empty() {
