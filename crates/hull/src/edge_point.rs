@@ -46,15 +46,35 @@ pub(crate) fn fold_safe_split(
     let (na, nb) = (normals[a as usize], normals[b as usize]);
     let mid = 0.5 * (pa + pb);
     let sum = (na.normalize() + nb.normalize()).normalize_or_zero();
-    let butterfly = {
-        let r = butterfly_refine_edge(mesh, a, b)?;
-        r.mesh.positions()[r.new_vertex as usize]
-    };
+    let at_butterfly = butterfly_refine_edge(mesh, a, b)?;
+    let m = at_butterfly.new_vertex;
+    let butterfly = at_butterfly.mesh.positions()[m as usize];
+    // The Loop limit normal of the new vertex does not depend on where it sits: its ring is
+    // `a, w₁, b, w₂` (valence 4; `w` the opposite corners), and Loop's tangent masks
+    // `cos(2πi/4)`, `sin(2πi/4)` give `(p_a − p_b) × (p_w₁ − p_w₂)`, the vertex's own position
+    // cancelling; on the boundary (ring `a, w, b`) the masks give `(p_a + p_b − 2 p_w)` and
+    // `p_a − p_b`, again without it. So it is computed once, and only its sign (towards the
+    // new faces' side) is decided per candidate point.
+    let loop_axis = loop_limit_normal(&at_butterfly.mesh, m)
+        .filter(|l| l.is_finite() && *l != DVec3::ZERO)
+        .map(DVec3::normalize);
+    let faces = edge_faces(mesh, a, b);
     for s in BLENDS {
-        let refined = split_edge(mesh, a, b, mid + s * (butterfly - mid))?;
-        let wanted = loop_normal(&refined.mesh, refined.new_vertex);
+        let point = mid + s * (butterfly - mid);
+        let new_faces = split_faces(mesh, &faces, point);
+        let side: DVec3 = new_faces.iter().map(|f| f.area_normal).sum();
+        let wanted = match loop_axis {
+            Some(l) if l.dot(side) < 0.0 => -l,
+            Some(l) => l,
+            None => side.normalize_or_zero(),
+        };
         for n in [wanted, sum] {
-            if n.is_finite() && n != DVec3::ZERO && valid(mesh, normals, &refined, n, [a, b]) {
+            if n.is_finite() && n != DVec3::ZERO && valid(normals, &new_faces, n, [a, b]) {
+                let refined = if s == 1.0 {
+                    at_butterfly
+                } else {
+                    split_edge(mesh, a, b, point)?
+                };
                 return Ok((refined, n));
             }
         }
@@ -65,65 +85,88 @@ pub(crate) fn fold_safe_split(
     Ok((split_edge(mesh, a, b, mid)?, sum))
 }
 
-/// The unit normal of face `f` (zero when degenerate).
-fn unit_face_normal(mesh: &TriMesh, f: u32) -> DVec3 {
-    let t = mesh.triangles()[f as usize];
+/// One face of the split edge: its corners `[u, v, w]` with `u → v` the edge, and its unit
+/// normal.
+struct EdgeFace {
+    corners: [u32; 3],
+    normal: DVec3,
+}
+
+/// The faces of edge `a`–`b` (one or two; the edge exists, `butterfly_refine_edge` checked).
+fn edge_faces(mesh: &TriMesh, a: u32, b: u32) -> Vec<EdgeFace> {
+    let t = mesh.topology();
+    let Some(e) = t.find_edge(a, b) else {
+        return Vec::new();
+    };
+    t.edge_faces(e)
+        .filter_map(|f| {
+            let tri = mesh.triangles()[f as usize];
+            let k = (0..3).find(|&k| {
+                let (u, v) = (tri[k], tri[(k + 1) % 3]);
+                (u == a && v == b) || (u == b && v == a)
+            })?;
+            Some(EdgeFace {
+                corners: [tri[k], tri[(k + 1) % 3], tri[(k + 2) % 3]],
+                normal: unit_normal(mesh, tri),
+            })
+        })
+        .collect()
+}
+
+/// A face made by the split: its corners (`None` for the new vertex), its area-weighted
+/// normal, and its parent's unit normal.
+struct NewFace {
+    corners: [Option<u32>; 3],
+    area_normal: DVec3,
+    parent_normal: DVec3,
+}
+
+/// The faces `[u, m, w]` and `[m, v, w]` that replace each face `[u, v, w]` when the new
+/// vertex `m` sits at `point` (the same faces `split_edge` makes).
+fn split_faces(mesh: &TriMesh, faces: &[EdgeFace], point: DVec3) -> Vec<NewFace> {
+    let p = |v: Option<u32>| v.map_or(point, |v| mesh.positions()[v as usize]);
+    let mut out = Vec::with_capacity(2 * faces.len());
+    for f in faces {
+        let [u, v, w] = f.corners;
+        for corners in [[Some(u), None, Some(w)], [None, Some(v), Some(w)]] {
+            let q = corners.map(p);
+            out.push(NewFace {
+                corners,
+                area_normal: (q[1] - q[0]).cross(q[2] - q[0]),
+                parent_normal: f.normal,
+            });
+        }
+    }
+    out
+}
+
+/// The unit normal of triangle `t` (zero when degenerate).
+fn unit_normal(mesh: &TriMesh, t: [u32; 3]) -> DVec3 {
     let p = |c: usize| mesh.positions()[t[c] as usize];
     (p(1) - p(0)).cross(p(2) - p(0)).normalize_or_zero()
 }
 
-/// Whether every face around the new vertex keeps its corners' normals on its positive side
-/// (see [`fold_safe_split`]).
-fn valid(
-    old: &TriMesh,
-    normals: &[DVec3],
-    refined: &LocalRefinement,
-    new_normal: DVec3,
-    [a, b]: [u32; 2],
-) -> bool {
-    let m = refined.new_vertex;
-    let unit = |v: u32| -> DVec3 {
-        if v == m {
-            new_normal.normalize()
-        } else {
-            normals[v as usize].normalize()
-        }
-    };
-    for f in refined.mesh.topology().vertex_faces(m) {
-        let parent = unit_face_normal(old, refined.face_parent[f as usize]);
-        let nf = unit_face_normal(&refined.mesh, f);
+/// Whether every new face keeps its corners' normals on its positive side (see
+/// [`fold_safe_split`]).
+fn valid(normals: &[DVec3], faces: &[NewFace], new_normal: DVec3, [a, b]: [u32; 2]) -> bool {
+    let new_normal = new_normal.normalize();
+    for f in faces {
+        let nf = f.area_normal.normalize_or_zero();
         if nf == DVec3::ZERO {
             return false;
         }
-        let parent_cos = |v: u32| parent.dot(normals[v as usize].normalize());
-        for &v in &refined.mesh.triangles()[f as usize] {
-            let floor = if v == m {
-                parent_cos(a).min(parent_cos(b))
-            } else {
-                parent_cos(v)
+        let parent_cos = |v: u32| f.parent_normal.dot(normals[v as usize].normalize());
+        for c in f.corners {
+            let (n, floor) = match c {
+                None => (new_normal, parent_cos(a).min(parent_cos(b))),
+                Some(v) => (normals[v as usize].normalize(), parent_cos(v)),
             };
-            if nf.dot(unit(v)) < DEFAULT_MIN_NORMAL_COSINE.min(floor) {
+            if nf.dot(n) < DEFAULT_MIN_NORMAL_COSINE.min(floor) {
                 return false;
             }
         }
     }
     true
-}
-
-/// The unit Loop limit normal of `v` (the paper's choice of normals, §3), turned to its
-/// faces' side; the area-weighted normal where the Loop normal is undefined.
-fn loop_normal(mesh: &TriMesh, v: u32) -> DVec3 {
-    let mut area = DVec3::ZERO;
-    for f in mesh.topology().vertex_faces(v) {
-        area += mesh.face_normal(f as usize);
-    }
-    let l = loop_limit_normal(mesh, v).unwrap_or(DVec3::ZERO);
-    let l = if l.length() > 0.0 && l.is_finite() {
-        l.normalize()
-    } else {
-        area.normalize_or_zero()
-    };
-    if l.dot(area) < 0.0 { -l } else { l }
 }
 
 #[cfg(test)]
@@ -166,9 +209,20 @@ mod tests {
         let (refined, n) = fold_safe_split(&mesh, &normals, 0, 1).unwrap();
         let m = refined.mesh.positions()[refined.new_vertex as usize];
         assert!((m - v(0.5, 0.0, 2.5)).length() < 1e-12, "{m}");
-        assert!(valid(&mesh, &normals, &refined, n, [0, 1]));
-        // The Butterfly point itself fails the same test.
-        let at_butterfly = split_edge(&mesh, 0, 1, butterfly).unwrap();
-        assert!(!valid(&mesh, &normals, &at_butterfly, DVec3::Z, [0, 1]));
+        let faces = edge_faces(&mesh, 0, 1);
+        assert!(valid(&normals, &split_faces(&mesh, &faces, m), n, [0, 1]));
+        // The Butterfly point itself fails the same test, whatever the new vertex's normal.
+        let at_butterfly = split_faces(&mesh, &faces, butterfly);
+        assert!(!valid(&normals, &at_butterfly, DVec3::Z, [0, 1]));
+        // The faces predicted are the ones `split_edge` makes, with the same normals.
+        for f in refined.mesh.topology().vertex_faces(refined.new_vertex) {
+            let got = unit_normal(&refined.mesh, refined.mesh.triangles()[f as usize]);
+            let predicted = split_faces(&mesh, &faces, m);
+            assert!(
+                predicted
+                    .iter()
+                    .any(|p| (p.area_normal.normalize() - got).length() < 1e-12)
+            );
+        }
     }
 }
