@@ -54,8 +54,11 @@ fn continuation_weights(a: &Tetrahedron, b: &Tetrahedron, lambda: [usize; 4]) ->
     cubic::blossom_weights(x, y, z)
 }
 
+/// A sparse constraint row `Σ w_j x_j = rhs`: its `(j, w_j)` terms and the right-hand side.
+type Row = (Vec<(usize, f64)>, f64);
+
 struct System {
-    rows: Vec<(Vec<(usize, f64)>, f64)>,
+    rows: Vec<Row>,
 }
 
 impl System {
@@ -194,67 +197,7 @@ impl SplitFace {
                 target[ti * 20 + r] = *c;
             }
         }
-        // Rows with a single unknown (vertex data (2.1), the free parameters) fix that
-        // coefficient exactly; eliminate them so they carry no solver rounding, then find the
-        // point of the remaining constraint set nearest the target: x = t + A⁺ (b − A t).
-        let mut fixed: Vec<Option<f64>> = vec![None; n];
-        for (terms, r) in &sys.rows {
-            if let [(j, w)] = terms.as_slice() {
-                fixed[*j] = Some(r / w);
-            }
-        }
-        let free: Vec<usize> = (0..n).filter(|&j| fixed[j].is_none()).collect();
-        let mut col = vec![usize::MAX; n];
-        for (k, &j) in free.iter().enumerate() {
-            col[j] = k;
-        }
-        let coupled: Vec<&(Vec<(usize, f64)>, f64)> =
-            sys.rows.iter().filter(|(t, _)| t.len() > 1).collect();
-        let (m, nf) = (coupled.len(), free.len());
-        // Dense row-major m × nf (about 150 × 66 for two apexes).
-        let mut a_mat = vec![0.0; m * nf];
-        let mut rhs = vec![0.0; m];
-        for (i, (terms, r)) in coupled.iter().enumerate() {
-            let mut v = *r;
-            for &(j, w) in terms {
-                match fixed[j] {
-                    Some(x) => v -= w * x,
-                    None => a_mat[i * nf + col[j]] += w,
-                }
-            }
-            rhs[i] = v;
-        }
-        let residual_of = |x: &[f64]| -> Vec<f64> {
-            (0..m)
-                .map(|i| {
-                    let row = &a_mat[i * nf..(i + 1) * nf];
-                    rhs[i] - row.iter().zip(x).map(|(a, b)| a * b).sum::<f64>()
-                })
-                .collect()
-        };
-        let mut xf: Vec<f64> = free.iter().map(|&j| target[j]).collect();
-        // Rank cut at 1e-10 of the largest row norm: the constraint matrix repeats conditions
-        // (C0 rows shared by several joins), so exactly dependent rows appear (their residual
-        // after projection is ~1e-16); rows are O(1).
-        let basis = RowBasis::new(&a_mat, m, nf, 1e-10);
-        // x = t + A⁺ (b − A t), then two steps of iterative refinement: each reduces the
-        // constraint residual by the solver's relative accuracy again, ending at rounding level.
-        for _ in 0..3 {
-            let step = basis.solve(&residual_of(&xf));
-            for (x, s) in xf.iter_mut().zip(step) {
-                *x += s;
-            }
-        }
-        let amax = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-        let residual =
-            amax(&residual_of(&xf)) / amax(&rhs).max(amax(&target)).max(f64::MIN_POSITIVE);
-        let mut x = vec![0.0; n];
-        for j in 0..n {
-            x[j] = match fixed[j] {
-                Some(v) => v,
-                None => xf[col[j]],
-            };
-        }
+        let (x, residual) = nearest_solution(&sys.rows, &target);
         let mut sides = Vec::new();
         for side in 0..apexes.len() {
             let polys = std::array::from_fn(|a| {
@@ -269,4 +212,140 @@ impl SplitFace {
             constraint_residual: residual,
         })
     }
+}
+
+/// Representative of `j`'s class in the union–find forest `parent` (with path halving).
+fn find(parent: &mut [usize], mut j: usize) -> usize {
+    while parent[j] != j {
+        parent[j] = parent[parent[j]];
+        j = parent[j];
+    }
+    j
+}
+
+/// The point nearest `target` (Euclidean norm over all coefficients) satisfying every row,
+/// and the largest violation of the rows relative to the size of the right-hand side and the
+/// target.
+///
+/// Two kinds of rows are eliminated exactly before the least-squares solve, so they carry no
+/// solver rounding and the dense system is small (about 60 × 35 instead of 150 × 66 for two
+/// apexes):
+/// * rows with a single unknown (vertex data (2.1), the free parameters) fix it;
+/// * rows `x_i − x_j = 0` (the C0 rows of the joins: a coefficient on a shared facet is the
+///   blossom of its neighbour at the facet's vertices, which `exact_barycentric` makes exact
+///   unit vectors, so the weights are exactly one 1) merge `i` and `j` into one unknown.
+///
+/// A class of merged unknowns that contains a fixed one takes its fixed value (the
+/// least-indexed one; fixed values in one class agree to rounding, which the residual shows).
+/// A free class `c` of `w_c` coefficients with targets `t_j` is one unknown `y_c`, and
+/// `Σ_{j∈c} (y_c − t_j)² = w_c (y_c − t̄_c)² + const` with `t̄_c` their mean, so the problem is
+/// `min Σ_c w_c (y_c − t̄_c)²` subject to the remaining rows `A y = r`: with
+/// `y = t̄ + W^{−1/2} z` it is the minimum-norm `z` of `A W^{−1/2} z = r − A t̄`, which
+/// [`RowBasis`] gives. In exact arithmetic this is the same point as the minimum-norm
+/// correction of all unknowns (the same objective on the same feasible set).
+fn nearest_solution(rows: &[Row], target: &[f64]) -> (Vec<f64>, f64) {
+    let n = target.len();
+    let mut fixed: Vec<Option<f64>> = vec![None; n];
+    let mut parent: Vec<usize> = (0..n).collect();
+    let is_equality = |terms: &[(usize, f64)], rhs: f64| matches!(terms, [(_, a), (_, b)] if *a == 1.0 && *b == -1.0 && rhs == 0.0);
+    for (terms, r) in rows {
+        if let [(j, w)] = terms.as_slice() {
+            fixed[*j] = Some(r / w);
+        } else if is_equality(terms, *r) {
+            let (a, b) = (find(&mut parent, terms[0].0), find(&mut parent, terms[1].0));
+            // The smaller index represents the class (deterministic whatever the row order).
+            let (lo, hi) = (a.min(b), a.max(b));
+            parent[hi] = lo;
+        }
+    }
+    // Per class (indexed by its representative): fixed value, size, target sum, column.
+    let mut class_fixed: Vec<Option<f64>> = vec![None; n];
+    let mut size = vec![0usize; n];
+    let mut tsum = vec![0.0; n];
+    for j in 0..n {
+        let c = find(&mut parent, j);
+        size[c] += 1;
+        tsum[c] += target[j];
+        if class_fixed[c].is_none() {
+            class_fixed[c] = fixed[j];
+        }
+    }
+    let mut col = vec![usize::MAX; n];
+    let mut classes = Vec::new();
+    for c in 0..n {
+        if parent[c] == c && class_fixed[c].is_none() {
+            col[c] = classes.len();
+            classes.push(c);
+        }
+    }
+    let nf = classes.len();
+    // Column scale 1/√w_c and the class means t̄_c.
+    let inv_sqrt_w: Vec<f64> = classes
+        .iter()
+        .map(|&c| 1.0 / (size[c] as f64).sqrt())
+        .collect();
+    let mean: Vec<f64> = classes.iter().map(|&c| tsum[c] / size[c] as f64).collect();
+    // Value of unknown j: fixed, or its class's.
+    let class_of: Vec<usize> = (0..n).map(|j| find(&mut parent, j)).collect();
+    let coupled: Vec<&Row> = rows
+        .iter()
+        .filter(|(t, r)| t.len() > 1 && !is_equality(t, *r))
+        .collect();
+    let m = coupled.len();
+    // Dense row-major m × nf in the unknowns y (unscaled), and the reduced right-hand side.
+    let mut a_mat = vec![0.0; m * nf];
+    let mut rhs = vec![0.0; m];
+    for (i, (terms, r)) in coupled.iter().enumerate() {
+        let mut v = *r;
+        for &(j, w) in terms {
+            let c = class_of[j];
+            match class_fixed[c] {
+                Some(x) => v -= w * fixed[j].unwrap_or(x),
+                None => a_mat[i * nf + col[c]] += w,
+            }
+        }
+        rhs[i] = v;
+    }
+    let residual_of = |y: &[f64]| -> Vec<f64> {
+        (0..m)
+            .map(|i| {
+                let row = &a_mat[i * nf..(i + 1) * nf];
+                rhs[i] - row.iter().zip(y).map(|(a, b)| a * b).sum::<f64>()
+            })
+            .collect()
+    };
+    let mut scaled = a_mat.clone();
+    for row in scaled.chunks_exact_mut(nf.max(1)) {
+        for (a, s) in row.iter_mut().zip(&inv_sqrt_w) {
+            *a *= s;
+        }
+    }
+    // Rank cut at 1e-10 of the largest row norm: the constraint rows repeat conditions (C1
+    // rows implied by others around the apex), so exactly dependent rows appear (their
+    // residual after projection is ~1e-16); rows are O(1) and the column scales in [1/√6, 1].
+    let basis = RowBasis::new(&scaled, m, nf, 1e-10);
+    // y = t̄ + W^{−1/2} A_s⁺ (r − A t̄), then two steps of iterative refinement: each reduces
+    // the constraint residual by the solver's relative accuracy again, ending at rounding level.
+    let mut y = mean;
+    for _ in 0..3 {
+        let step = basis.solve(&residual_of(&y));
+        for ((x, s), w) in y.iter_mut().zip(step).zip(&inv_sqrt_w) {
+            *x += s * w;
+        }
+    }
+    let x: Vec<f64> = (0..n)
+        .map(|j| match (fixed[j], class_fixed[class_of[j]]) {
+            (Some(v), _) | (None, Some(v)) => v,
+            (None, None) => y[col[class_of[j]]],
+        })
+        .collect();
+    // Residual of every row, eliminated ones included, at the final coefficients.
+    let amax = |v: &mut dyn Iterator<Item = f64>| v.fold(0.0f64, |m, x| m.max(x.abs()));
+    let worst = amax(
+        &mut rows
+            .iter()
+            .map(|(terms, r)| r - terms.iter().map(|&(j, w)| w * x[j]).sum::<f64>()),
+    );
+    let size_of = amax(&mut rows.iter().map(|(_, r)| *r)).max(amax(&mut target.iter().copied()));
+    (x, worst / size_of.max(f64::MIN_POSITIVE))
 }
