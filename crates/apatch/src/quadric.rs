@@ -34,6 +34,47 @@ impl Quadric {
         self.a * x * 2.0 + self.b
     }
 
+    /// The 20 BB coefficients (storage order of `algesurf_bb::multi_index`) of Q as a cubic on
+    /// `tet`, computed about `origin` (a point near the tetrahedron, to keep the products small).
+    ///
+    /// The blossom of a quadratic is `Q[x, y] = xᵀ A y + bᵀ(x + y)/2 + c`; about `o` it is
+    /// `(x − o)ᵀ A (y − o) + ∇Q(o)ᵀ((x − o) + (y − o))/2 + Q(o)`, the same bilinear form (expand
+    /// it). Degree-elevated to a cubic, the blossom is `(Q[x,y] + Q[x,z] + Q[y,z])/3`, and the
+    /// coefficient `λ` is that blossom at the vertices repeated as `λ` says (Farin, "Curves and
+    /// Surfaces for CAGD", §18): the same polynomial `BbPoly::from_cartesian` produces, without
+    /// its generic power-basis composition.
+    pub(crate) fn cubic_coefficients(
+        &self,
+        tet: &algesurf_bb::Tetrahedron,
+        origin: DVec3,
+    ) -> [f64; 20] {
+        let g = self.gradient(origin);
+        let q0 = self.value(origin);
+        let d: [DVec3; 4] = std::array::from_fn(|i| tet.vertex(i) - origin);
+        let mut p = [[0.0; 4]; 4];
+        for i in 0..4 {
+            for j in i..4 {
+                let v = d[i].dot(self.a * d[j]) + g.dot(d[i] + d[j]) * 0.5 + q0;
+                p[i][j] = v;
+                p[j][i] = v;
+            }
+        }
+        let mut out = [0.0; 20];
+        for (l, x) in algesurf_bb::multi_index::iter::<4>(3).zip(out.iter_mut()) {
+            let mut args = [0usize; 3];
+            let mut n = 0;
+            for (s, &times) in l.iter().enumerate() {
+                for _ in 0..times {
+                    args[n] = s;
+                    n += 1;
+                }
+            }
+            let [i, j, k] = args;
+            *x = (p[i][j] + p[i][k] + p[j][k]) / 3.0;
+        }
+        out
+    }
+
     /// Least-squares fit to points `p_i` with gradients `N_i`: `Q(p_i) = 0`, `∇Q(p_i) = N_i`.
     ///
     /// The unknowns are expressed about the centroid and scaled by the neighbourhood radius
@@ -126,5 +167,66 @@ impl Quadric {
         let b = bl - a * centre * 2.0;
         let c = centre.dot(a * centre) - bl.dot(centre) + h * q[9];
         Quadric { a, b, c }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use algesurf_bb::{BbPoly, PowerPoly, Tetrahedron};
+
+    #[test]
+    fn cubic_coefficients_are_the_quadric_on_the_tetrahedron() {
+        let q = Quadric {
+            a: DMat3::from_cols_array(&[0.7, 0.2, -0.1, 0.2, -0.4, 0.3, -0.1, 0.3, 0.9]),
+            b: DVec3::new(0.5, -1.2, 0.8),
+            c: -0.3,
+        };
+        // A unit-sized tetrahedron away from the origin, and an origin near it.
+        let o = DVec3::new(4.0, -3.0, 2.5);
+        let tet = Tetrahedron::new([
+            o + DVec3::new(0.0, 0.0, 0.0),
+            o + DVec3::new(1.0, 0.1, 0.0),
+            o + DVec3::new(0.2, 0.9, 0.1),
+            o + DVec3::new(0.3, 0.2, 1.1),
+        ])
+        .unwrap();
+        let coeffs = q.cubic_coefficients(&tet, o + DVec3::new(0.4, 0.3, 0.2));
+        let poly = BbPoly::<f64, 4>::new(3, coeffs.to_vec()).unwrap();
+        // Every point: the BB form's value is Q's (up to the rounding of O(10) terms).
+        for tau in [
+            [1.0, 0.0, 0.0, 0.0],
+            [0.25, 0.25, 0.25, 0.25],
+            [0.1, 0.6, 0.2, 0.1],
+            [0.0, 0.0, 0.3, 0.7],
+        ] {
+            let x = (0..4).map(|i| tet.vertex(i) * tau[i]).sum::<DVec3>();
+            let (got, want) = (poly.eval(tau), q.value(x));
+            assert!(
+                (got - want).abs() < 1e-12 * 50.0,
+                "{got} vs {want} at {tau:?}"
+            );
+        }
+        // And the same coefficients as the generic conversion.
+        let a = q.a.to_cols_array_2d();
+        let mut qp = PowerPoly::<4>::zero(2);
+        for (e, val) in [
+            ([2, 0, 0], a[0][0]),
+            ([0, 2, 0], a[1][1]),
+            ([0, 0, 2], a[2][2]),
+            ([1, 1, 0], 2.0 * a[0][1]),
+            ([1, 0, 1], 2.0 * a[0][2]),
+            ([0, 1, 1], 2.0 * a[1][2]),
+            ([1, 0, 0], q.b.x),
+            ([0, 1, 0], q.b.y),
+            ([0, 0, 1], q.b.z),
+            ([0, 0, 0], q.c),
+        ] {
+            qp.set(&e, val).unwrap();
+        }
+        let generic = BbPoly::from_cartesian(&tet, &qp, 3).unwrap();
+        for (x, y) in coeffs.iter().zip(generic.coeffs()) {
+            assert!((x - y).abs() < 1e-12 * 50.0, "{x} vs {y}");
+        }
     }
 }

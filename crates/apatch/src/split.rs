@@ -19,10 +19,10 @@
 //! `b t²` lifting for the single-sheet bound.
 
 use crate::cubic;
-use crate::geometry::{apex_square, exact_barycentric, foot};
+use crate::geometry::{exact_barycentric, foot};
 use crate::rowspace::RowBasis;
 use crate::{ApatchError, Quadric, VertexData};
-use algesurf_bb::{BbPoly, PowerPoly, Tetrahedron, multi_index};
+use algesurf_bb::{BbPoly, Tetrahedron, multi_index};
 use glam::DVec3;
 
 /// One side (apex) of a split face: three cubics on `[p_b, p_c, c, apex]`, `a` = 0, 1, 2 the
@@ -48,9 +48,9 @@ pub struct SplitFace {
 
 /// Linear form of a coefficient of `poly_b` (on `b`) induced by `poly_a` (on `a`): weights
 /// `w_μ` with `coeff_B(λ) = Σ_μ w_μ x_A[μ]` = blossom of A at B's vertices (Lemma 2.2).
-fn continuation_weights(a: &Tetrahedron, b: &Tetrahedron, lambda: [usize; 4]) -> [f64; 20] {
-    let verts: [[f64; 4]; 4] = std::array::from_fn(|s| exact_barycentric(a, b.vertex(s)));
-    let [x, y, z] = cubic::blossom_args(&verts, lambda);
+/// `verts`: B's vertices in A's barycentric coordinates (`exact_barycentric`).
+fn continuation_weights(verts: &[[f64; 4]; 4], lambda: [usize; 4]) -> [f64; 20] {
+    let [x, y, z] = cubic::blossom_args(verts, lambda);
     cubic::blossom_weights(x, y, z)
 }
 
@@ -73,8 +73,9 @@ impl System {
         let opp = (0..4)
             .find(|&s| !(0..4).any(|k| a.vertex(k) == b.vertex(s)))
             .expect("the tetrahedra share a face");
+        let verts: [[f64; 4]; 4] = std::array::from_fn(|s| exact_barycentric(a, b.vertex(s)));
         for lambda in multi_index::iter::<4>(3).filter(|l| l[opp] <= 1) {
-            let w = continuation_weights(a, b, lambda);
+            let w = continuation_weights(&verts, lambda);
             let mut terms = vec![(ib * 20 + multi_index::rank(&lambda), 1.0)];
             terms.extend(
                 w.iter()
@@ -161,41 +162,23 @@ impl SplitFace {
                 sys.join(&tets, a, 3 + a);
             }
         }
-        // Target: the local quadric family Q + (f − Q(apex)) τ_apex², per sub-tetrahedron.
+        // Target: the local quadric family Q + (f − Q(apex)) τ_apex², per sub-tetrahedron
+        // (the quadric's blossom about the face centroid, see `Quadric::cubic_coefficients`).
         let mut target = vec![0.0; n];
         for (ti, tet) in tets.iter().enumerate() {
             let side = ti / 3;
-            let mut qp = PowerPoly::<4>::zero(2);
-            let a = q.a.to_cols_array_2d();
-            let names = [
-                [2, 0, 0],
-                [0, 2, 0],
-                [0, 0, 2],
-                [1, 1, 0],
-                [1, 0, 1],
-                [0, 1, 1],
-            ];
-            let vals = [
-                a[0][0],
-                a[1][1],
-                a[2][2],
-                2.0 * a[0][1],
-                2.0 * a[0][2],
-                2.0 * a[1][2],
-            ];
-            for (e, val) in names.iter().zip(vals) {
-                qp.set(e, val)?;
-            }
-            qp.set(&[1, 0, 0], q.b.x)?;
-            qp.set(&[0, 1, 0], q.b.y)?;
-            qp.set(&[0, 0, 1], q.b.z)?;
-            qp.set(&[0, 0, 0], q.c)?;
-            // The family of Theorem 4.2: Q + (f − Q(apex)) τ_apex².
+            // The family of Theorem 4.2: Q + (f − Q(apex)) τ_apex²; τ_apex² is 1/3 on the
+            // layer λ_apex = 2 and 1 at the apex (`apex_square`).
             let lift = f[side] - q.value(apexes[side]);
-            let poly = BbPoly::from_cartesian(tet, &qp, 3)?.add_poly(&apex_square().scale(lift));
-            for (r, c) in poly.coeffs().iter().enumerate() {
-                target[ti * 20 + r] = *c;
+            let mut coeffs = q.cubic_coefficients(tet, c);
+            for (l, x) in multi_index::iter::<4>(3).zip(coeffs.iter_mut()) {
+                match l[3] {
+                    2 => *x += lift / 3.0,
+                    3 => *x += lift,
+                    _ => {}
+                }
             }
+            target[ti * 20..ti * 20 + 20].copy_from_slice(&coeffs);
         }
         let (x, residual) = nearest_solution(&sys.rows, &target);
         let mut sides = Vec::new();
