@@ -134,13 +134,21 @@ impl Quadric {
                 r[row + 1 + d] = na[d];
             }
         }
-        let svd = m.svd(true, true);
+        // Householder QR first (`m = Q R`, Q with 10 orthonormal columns): then
+        // `‖m x − r‖² = ‖R x − Qᵀr‖² + ‖(I − QQᵀ) r‖²`, so the minimum-norm least-squares
+        // solution of `m` is that of the 10 × 10 `R` with right-hand side `Qᵀr`, and `R` has
+        // `m`'s singular values (Q is orthonormal). The SVD then works on 10 × 10 instead of
+        // 4k × 10 with its 4k × 10 U (Golub–Van Loan §5.4.5, "R-SVD").
+        let qr = m.qr();
+        let mut qtr = r;
+        qr.q_tr_mul(&mut qtr);
+        let svd = qr.r().svd(true, true);
         // Singular values below 1e-10 of the largest are treated as zero: they are the
         // rank-deficient directions (coplanar data) or noise at the level of f64 rounding in
         // a system whose entries are O(1) by construction.
         let tol = 1e-10 * svd.singular_values.max();
         let q = svd
-            .solve(&r, tol)
+            .solve(&qtr.rows(0, 10).into_owned(), tol)
             .map_err(|e| ApatchError::Degenerate(format!("quadric fit: {e}")))?;
         Ok(Quadric::from_local(q.as_slice(), centre, h))
     }

@@ -275,11 +275,11 @@ impl ApatchSurface {
                 p.relative_margin = (p.value - p.bound).abs() / p.scale;
             }
         }
-        // The edge cubics depend on the raised faces: rebuild them if any face changed.
+        // The edge cubics depend on the raised faces: rebuild those next to a raised side.
         let edges = if raise.is_empty() {
             edges
         } else {
-            build_edges(&hull, &faces)?
+            rebuild_raised_edges(&hull, &faces, edges, &raise)?
         };
         let timings = ConstructionTimings {
             hull: hull_time,
@@ -506,6 +506,39 @@ fn build_edges(
             Ok(out)
         })
         .collect()
+}
+
+/// [`build_edges`] after the face sides in `raise` changed: only the edge cubics on a raised
+/// side of one of their two faces are rebuilt. The others are kept; rebuilding them would give
+/// the same bits (an edge cubic is a deterministic function of its two faces' pieces on its
+/// side, and those did not change).
+fn rebuild_raised_edges(
+    hull: &SimplicialHull,
+    faces: &[FaceFunction],
+    mut edges: Vec<[Option<EdgeCubic>; 2]>,
+    raise: &HashMap<(usize, Side), f64>,
+) -> Result<Vec<[Option<EdgeCubic>; 2]>, ApatchError> {
+    let pos = hull.mesh().positions();
+    edges
+        .par_iter_mut()
+        .zip(hull.edges().par_iter())
+        .try_for_each(|(slots, e)| -> Result<(), ApatchError> {
+            let Some(fl) = e.face_l else {
+                return Ok(());
+            };
+            let (pi, pj) = (pos[e.vertices[0] as usize], pos[e.vertices[1] as usize]);
+            for (slot, side) in [(0usize, Side::Positive), (1usize, Side::Negative)] {
+                let raised = raise.contains_key(&(e.face_k as usize, side))
+                    || raise.contains_key(&(fl as usize, side));
+                if raised && slots[slot].is_some() {
+                    let k = faces[e.face_k as usize].edge_neighbour(side, pi, pj)?;
+                    let l = faces[fl as usize].edge_neighbour(side, pi, pj)?;
+                    slots[slot] = Some(EdgeCubic::from_neighbours(pi, pj, &k, &l)?);
+                }
+            }
+            Ok(())
+        })?;
+    Ok(edges)
 }
 
 /// Increments of apex values an edge asks for: `((face, side), δ)`.
