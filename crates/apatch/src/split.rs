@@ -54,16 +54,39 @@ fn continuation_weights(verts: &[[f64; 4]; 4], lambda: [usize; 4]) -> [f64; 20] 
     cubic::blossom_weights(x, y, z)
 }
 
-/// A sparse constraint row `Σ w_j x_j = rhs`: its `(j, w_j)` terms and the right-hand side.
-type Row = (Vec<(usize, f64)>, f64);
-
+/// Sparse constraint rows `Σ w_j x_j = rhs`, stored flat (one allocation for all terms: a
+/// split face has about 200 rows).
 struct System {
-    rows: Vec<Row>,
+    /// `(j, w_j)` of every row, row after row.
+    terms: Vec<(usize, f64)>,
+    /// Row `i`'s terms are `terms[starts[i]..starts[i + 1]]`.
+    starts: Vec<usize>,
+    rhs: Vec<f64>,
 }
 
 impl System {
-    fn push(&mut self, terms: Vec<(usize, f64)>, rhs: f64) {
-        self.rows.push((terms, rhs));
+    fn with_capacity(rows: usize, terms: usize) -> Self {
+        let mut starts = Vec::with_capacity(rows + 1);
+        starts.push(0);
+        System {
+            terms: Vec::with_capacity(terms),
+            starts,
+            rhs: Vec::with_capacity(rows),
+        }
+    }
+
+    fn push(&mut self, terms: impl IntoIterator<Item = (usize, f64)>, rhs: f64) {
+        self.terms.extend(terms);
+        self.starts.push(self.terms.len());
+        self.rhs.push(rhs);
+    }
+
+    /// The rows as `(terms, rhs)`.
+    fn rows(&self) -> impl Iterator<Item = (&[(usize, f64)], f64)> + '_ {
+        self.starts
+            .windows(2)
+            .zip(&self.rhs)
+            .map(|(w, r)| (&self.terms[w[0]..w[1]], *r))
     }
 
     /// C0 and C1 between tetrahedra `ia` and `ib` (indices into `tets`), which share a face:
@@ -76,8 +99,7 @@ impl System {
         let verts: [[f64; 4]; 4] = std::array::from_fn(|s| exact_barycentric(a, b.vertex(s)));
         for lambda in multi_index::iter::<4>(3).filter(|l| l[opp] <= 1) {
             let w = continuation_weights(&verts, lambda);
-            let mut terms = vec![(ib * 20 + multi_index::rank(&lambda), 1.0)];
-            terms.extend(
+            let terms = std::iter::once((ib * 20 + multi_index::rank(&lambda), 1.0)).chain(
                 w.iter()
                     .enumerate()
                     .filter(|(_, x)| **x != 0.0)
@@ -115,7 +137,9 @@ impl SplitFace {
             }
         }
         let n = tets.len() * 20;
-        let mut sys = System { rows: Vec::new() };
+        // Two apexes: 48 vertex, 12 mid-edge, 6 apex rows and 9 joins of 16 rows (C0 rows
+        // have 2 terms, C1 rows up to 21).
+        let mut sys = System::with_capacity(224, 2048);
         for side in 0..apexes.len() {
             let t0 = side * 3;
             for a in 0..3 {
@@ -132,7 +156,7 @@ impl SplitFace {
                         None,
                     )?;
                     for (l, val) in coeffs {
-                        sys.push(vec![(ti * 20 + multi_index::rank(&l), 1.0)], val);
+                        sys.push([(ti * 20 + multi_index::rank(&l), 1.0)], val);
                     }
                 }
                 // Mid-edge transversal gradient at m = (p_b + p_c)/2 in two directions.
@@ -146,10 +170,10 @@ impl SplitFace {
                     // D_d F(m) = 3 b[d, m, m] (see `cubic`).
                     let weights = cubic::blossom_weights(dir, m, m).map(|w| 3.0 * w);
                     let terms = weights.iter().enumerate().filter(|(_, w)| **w != 0.0);
-                    sys.push(terms.map(|(r, w)| (ti * 20 + r, *w)).collect(), d.dot(g));
+                    sys.push(terms.map(|(r, w)| (ti * 20 + r, *w)), d.dot(g));
                 }
                 // Free parameter at the apex.
-                sys.push(vec![(ti * 20 + 19, 1.0)], f[side]);
+                sys.push([(ti * 20 + 19, 1.0)], f[side]);
             }
             // C1 across the internal faces [p_v, c, apex] of this side.
             for a in 0..3 {
@@ -180,7 +204,7 @@ impl SplitFace {
             }
             target[ti * 20..ti * 20 + 20].copy_from_slice(&coeffs);
         }
-        let (x, residual) = nearest_solution(&sys.rows, &target);
+        let (x, residual) = nearest_solution(&sys, &target);
         let mut sides = Vec::new();
         for side in 0..apexes.len() {
             let polys = std::array::from_fn(|a| {
@@ -226,15 +250,15 @@ fn find(parent: &mut [usize], mut j: usize) -> usize {
 /// `y = t̄ + W^{−1/2} z` it is the minimum-norm `z` of `A W^{−1/2} z = r − A t̄`, which
 /// [`RowBasis`] gives. In exact arithmetic this is the same point as the minimum-norm
 /// correction of all unknowns (the same objective on the same feasible set).
-fn nearest_solution(rows: &[Row], target: &[f64]) -> (Vec<f64>, f64) {
+fn nearest_solution(sys: &System, target: &[f64]) -> (Vec<f64>, f64) {
     let n = target.len();
     let mut fixed: Vec<Option<f64>> = vec![None; n];
     let mut parent: Vec<usize> = (0..n).collect();
     let is_equality = |terms: &[(usize, f64)], rhs: f64| matches!(terms, [(_, a), (_, b)] if *a == 1.0 && *b == -1.0 && rhs == 0.0);
-    for (terms, r) in rows {
-        if let [(j, w)] = terms.as_slice() {
+    for (terms, r) in sys.rows() {
+        if let [(j, w)] = terms {
             fixed[*j] = Some(r / w);
-        } else if is_equality(terms, *r) {
+        } else if is_equality(terms, r) {
             let (a, b) = (find(&mut parent, terms[0].0), find(&mut parent, terms[1].0));
             // The smaller index represents the class (deterministic whatever the row order).
             let (lo, hi) = (a.min(b), a.max(b));
@@ -270,16 +294,16 @@ fn nearest_solution(rows: &[Row], target: &[f64]) -> (Vec<f64>, f64) {
     let mean: Vec<f64> = classes.iter().map(|&c| tsum[c] / size[c] as f64).collect();
     // Value of unknown j: fixed, or its class's.
     let class_of: Vec<usize> = (0..n).map(|j| find(&mut parent, j)).collect();
-    let coupled: Vec<&Row> = rows
-        .iter()
+    let coupled: Vec<(&[(usize, f64)], f64)> = sys
+        .rows()
         .filter(|(t, r)| t.len() > 1 && !is_equality(t, *r))
         .collect();
     let m = coupled.len();
     // Dense row-major m × nf in the unknowns y (unscaled), and the reduced right-hand side.
     let mut a_mat = vec![0.0; m * nf];
     let mut rhs = vec![0.0; m];
-    for (i, (terms, r)) in coupled.iter().enumerate() {
-        let mut v = *r;
+    for (i, &(terms, r)) in coupled.iter().enumerate() {
+        let mut v = r;
         for &(j, w) in terms {
             let c = class_of[j];
             match class_fixed[c] {
@@ -325,10 +349,10 @@ fn nearest_solution(rows: &[Row], target: &[f64]) -> (Vec<f64>, f64) {
     // Residual of every row, eliminated ones included, at the final coefficients.
     let amax = |v: &mut dyn Iterator<Item = f64>| v.fold(0.0f64, |m, x| m.max(x.abs()));
     let worst = amax(
-        &mut rows
-            .iter()
+        &mut sys
+            .rows()
             .map(|(terms, r)| r - terms.iter().map(|&(j, w)| w * x[j]).sum::<f64>()),
     );
-    let size_of = amax(&mut rows.iter().map(|(_, r)| *r)).max(amax(&mut target.iter().copied()));
+    let size_of = amax(&mut sys.rhs.iter().copied()).max(amax(&mut target.iter().copied()));
     (x, worst / size_of.max(f64::MIN_POSITIVE))
 }
