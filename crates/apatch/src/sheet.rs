@@ -198,3 +198,34 @@ pub fn certified_face_bound(
     )
     .upper
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lifted_b_min_above_is_exact_above_the_floor_and_certified_below_it() {
+        let lift = [0.0, 0.0, 0.4, 1.0];
+        for base in [
+            [-1.0, 0.3, -0.8, -0.2],
+            [-0.5, -0.4, 0.2, 0.9],
+            [-2.0, 1.5, -1.0, 0.3],
+        ] {
+            let exact = lifted_b_min(base, lift).unwrap();
+            for floor in [exact - 1.0, exact - 1e-9, exact, exact + 1e-9, exact + 1.0] {
+                let got = lifted_b_min_above(base, lift, floor).unwrap();
+                if got > floor {
+                    assert_eq!(got.to_bits(), exact.to_bits(), "{base:?}, floor {floor}");
+                } else {
+                    // A value at some t: the least b is at most it.
+                    assert!(got >= exact, "{got} below the minimum {exact}");
+                }
+                if exact > floor {
+                    assert_eq!(got.to_bits(), exact.to_bits(), "{base:?}, floor {floor}");
+                }
+            }
+        }
+        // b_0 ≥ 0: no bound, whatever the floor.
+        assert_eq!(lifted_b_min_above([0.1, 0.0, 0.0, 0.0], lift, 0.0), None);
+    }
+}
