@@ -142,7 +142,11 @@ impl Quadric {
         let qr = m.qr();
         let mut qtr = r;
         qr.q_tr_mul(&mut qtr);
-        let svd = qr.r().svd(true, true);
+        let rmat = qr.r();
+        if let Some(q) = well_conditioned_solve(&rmat, &qtr) {
+            return Ok(Quadric::from_local(&q, centre, h));
+        }
+        let svd = rmat.svd(true, true);
         // Singular values below 1e-10 of the largest are treated as zero: they are the
         // rank-deficient directions (coplanar data) or noise at the level of f64 rounding in
         // a system whose entries are O(1) by construction.
@@ -178,10 +182,90 @@ impl Quadric {
     }
 }
 
+/// `R⁻¹ b[0..10]` by back substitution when the 10 × 10 upper-triangular `R` is certifiably far
+/// from the SVD's rank cut, else `None`.
+///
+/// Why it is the same solution: `σ_max(R) ≤ ‖R‖_F` and `σ_min(R) = 1/‖R⁻¹‖_2 ≥ 1/‖R⁻¹‖_F`, so
+/// `‖R‖_F ‖R⁻¹‖_F < 1e8` proves every singular value above `1e-8 σ_max`, a hundred times the
+/// fit's cut (`1e-10 σ_max`; the hundredfold also covers the rounding of the computed `R⁻¹`,
+/// relative `≈ cond · ε ≤ 1e-8`). Then the SVD solve truncates nothing and equals `R⁻¹ b` in
+/// exact arithmetic. Rank-deficient fits (coplanar neighbourhoods) fail the test and take the
+/// SVD.
+fn well_conditioned_solve(r: &DMatrix<f64>, b: &DVector<f64>) -> Option<[f64; 10]> {
+    const N: usize = 10;
+    if r.nrows() < N || r.ncols() != N {
+        return None;
+    }
+    let mut inv = [[0.0f64; N]; N];
+    // Column j of R⁻¹: back substitution on e_j (upper triangular, so rows ≤ j only).
+    for j in 0..N {
+        for i in (0..=j).rev() {
+            let d = r[(i, i)];
+            if d == 0.0 || !d.is_finite() {
+                return None;
+            }
+            let mut s = if i == j { 1.0 } else { 0.0 };
+            for k in i + 1..=j {
+                s -= r[(i, k)] * inv[k][j];
+            }
+            inv[i][j] = s / d;
+        }
+    }
+    let fro = |f: &dyn Fn(usize, usize) -> f64| {
+        (0..N)
+            .flat_map(|i| (i..N).map(move |j| (i, j)))
+            .map(|(i, j)| f(i, j).powi(2))
+            .sum::<f64>()
+            .sqrt()
+    };
+    let cond = fro(&|i, j| r[(i, j)]) * fro(&|i, j| inv[i][j]);
+    // NaN (an overflowing inverse) fails the test too.
+    if cond.is_nan() || cond >= 1e8 {
+        return None;
+    }
+    let mut x = [0.0; N];
+    for i in (0..N).rev() {
+        let mut s = b[i];
+        for k in i + 1..N {
+            s -= r[(i, k)] * x[k];
+        }
+        x[i] = s / r[(i, i)];
+    }
+    Some(x)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use algesurf_bb::{BbPoly, PowerPoly, Tetrahedron};
+
+    #[test]
+    fn back_substitution_only_where_the_svd_would_truncate_nothing() {
+        // Well conditioned: the same solution as the SVD.
+        let r = DMatrix::<f64>::from_fn(10, 10, |i, j| {
+            if i == j {
+                2.0 + i as f64 * 0.1
+            } else if j > i {
+                ((i * 7 + j * 3) as f64).sin() * 0.3
+            } else {
+                0.0
+            }
+        });
+        let b = DVector::<f64>::from_fn(10, |i, _| (i as f64 * 0.7).cos());
+        let fast = well_conditioned_solve(&r, &b).expect("well conditioned");
+        let svd = r.clone().svd(true, true);
+        let slow = svd.solve(&b, 1e-10 * svd.singular_values.max()).unwrap();
+        for (x, y) in fast.iter().zip(slow.iter()) {
+            assert!((x - y).abs() < 1e-13, "{x} vs {y}");
+        }
+        // Rank deficient (a zero pivot) or nearly so: left to the SVD.
+        let mut singular = r.clone();
+        singular[(9, 9)] = 0.0;
+        assert!(well_conditioned_solve(&singular, &b).is_none());
+        let mut near = r;
+        near[(4, 4)] = 1e-12;
+        assert!(well_conditioned_solve(&near, &b).is_none());
+    }
 
     #[test]
     fn cubic_coefficients_are_the_quadric_on_the_tetrahedron() {
