@@ -230,12 +230,6 @@ impl ApatchSurface {
         let start = std::time::Instant::now();
         let hull = SimplicialHull::from_mesh(mesh, &normals, &options.hull)?;
         let hull_time = start.elapsed();
-        // Refinement may condition more normals (input vertices keep their ids in the hull's
-        // mesh, so the two lists share one numbering).
-        let mut adjusted_normals = adjusted_normals;
-        adjusted_normals.extend_from_slice(hull.adjusted_normals());
-        adjusted_normals.sort_unstable();
-        adjusted_normals.dedup();
         let m = hull.mesh();
         let grads = hull.normals();
         let pos = m.positions();

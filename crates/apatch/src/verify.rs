@@ -4,6 +4,8 @@
 //! topology, parameter margins) are the check battery of `algesurf-inspect`
 //! (`algesurf_inspect::check`), which reads F through [`ApatchSurface::pieces`].
 
+use crate::cubic;
+use crate::geometry::gradient_from_partials;
 use crate::surface::FaceFunction;
 use crate::{ApatchSurface, EdgeCubic, FaceCubic, SplitSide};
 use algesurf_bb::Tetrahedron;
@@ -60,6 +62,25 @@ impl Piece<'_> {
                 s.polys[a].gradient_at(&s.tets[a], x),
             ),
             PieceFunction::Edge(c) => c.value_gradient(x),
+        }
+    }
+
+    /// F and ∇F at the point with barycentric coordinates `tau` in the piece's tetrahedron.
+    ///
+    /// Unlike [`Piece::value_gradient`] this involves no Cartesian→barycentric solve, so a
+    /// point given on a facet (`tau` with exact zeros) is evaluated exactly there. That matters
+    /// on thin tetrahedra: a Cartesian point on a facet is rounded off it by ~ε·|x|, which is
+    /// ~1e-10 in the barycentric coordinate of a tetrahedron of height 2e-5 at |x| ≈ 15 (the
+    /// fandisk's edge tetrahedra), and the second derivatives of F there (~|∇F|·edge/height²)
+    /// turn that offset into a 1e-8 change of ∇F that is not a property of F on the facet.
+    pub fn value_gradient_at_barycentric(&self, tau: [f64; 4]) -> (f64, DVec3) {
+        match self.function {
+            PieceFunction::Face(c) => (c.value(tau), c.gradient_at_tau(tau)),
+            PieceFunction::Split(s, a) => {
+                let (f, dp) = cubic::value_partials(&cubic::coeffs_of(&s.polys[a]), tau);
+                (f, gradient_from_partials(&s.tets[a], dp, [0.0; 4]))
+            }
+            PieceFunction::Edge(c) => (c.value(tau), c.gradient_at_tau(tau)),
         }
     }
 }

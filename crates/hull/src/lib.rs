@@ -49,6 +49,7 @@
 
 mod bvh;
 mod classify;
+mod edge_point;
 mod error;
 mod hull;
 mod overlap;

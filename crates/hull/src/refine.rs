@@ -8,14 +8,16 @@
 //! propagation path (LEPP): walk to the neighbour across the longest edge until an edge is
 //! longest in both its faces (or on the boundary), split that edge, and repeat until the face
 //! itself has been split. Every split puts the new vertex at the modified Butterfly edge point
-//! (`algesurf_mesh::butterfly_refine_edge`), splits the edge in both its faces (conforming, no
+//! (`algesurf_mesh::butterfly_refine_edge`) — pulled towards the edge's midpoint where that
+//! would fold a face against a vertex normal (`crate::edge_point`) — splits the edge in both its faces (conforming, no
 //! T-junctions), and leaves all other vertices where they are. Longest-edge bisection keeps the
 //! triangles' angles bounded away from zero, so repeated rounds shrink the faces in every
 //! direction.
 
 use crate::HullError;
+use crate::edge_point::fold_safe_split;
 use crate::simplicial::Refinement;
-use algesurf_mesh::{TriMesh, butterfly_refine_edge, loop_limit_normal};
+use algesurf_mesh::TriMesh;
 use glam::DVec3;
 use std::collections::HashMap;
 
@@ -25,8 +27,6 @@ pub(crate) struct RefineState {
     pub(crate) normals: Vec<DVec3>,
     pub(crate) face_map: Vec<u32>,
     pub(crate) refinements: Vec<Refinement>,
-    /// Vertices whose normals refinement had to change (see `split`), sorted, unique.
-    pub(crate) adjusted_normals: Vec<u32>,
     pub(crate) input_vertex_count: usize,
     /// For edges incident to an inserted vertex: the input edge whose refinement made them.
     ancestor: HashMap<[u32; 2], [u32; 2]>,
@@ -64,7 +64,6 @@ impl RefineState {
             mesh,
             normals,
             refinements: Vec::new(),
-            adjusted_normals: Vec::new(),
             ancestor: HashMap::new(),
         }
     }
@@ -75,10 +74,11 @@ impl RefineState {
         self.ancestor.get(&key(a, b)).copied().unwrap_or(key(a, b))
     }
 
-    /// Splits edge `a`–`b` at its Butterfly point and gives the new vertex its normal.
+    /// Splits edge `a`–`b` and gives the new vertex its normal, without making any face
+    /// invalid (see [`fold_safe_split`]).
     fn split(&mut self, a: u32, b: u32, round: usize) -> Result<(), HullError> {
         let input_edge = self.input_edge(a, b);
-        let refined = butterfly_refine_edge(&self.mesh, a, b)?;
+        let (refined, normal) = fold_safe_split(&self.mesh, &self.normals, a, b)?;
         let m = refined.new_vertex;
         self.face_map = refined
             .face_parent
@@ -86,30 +86,7 @@ impl RefineState {
             .map(|&f| self.face_map[f as usize])
             .collect();
         self.mesh = refined.mesh;
-        self.normals.push(new_vertex_normal(&self.mesh, m));
-        // The split tilts the faces around the new vertex: keep every normal of those faces
-        // strictly on their positive side (§3 needs n_fᵀn_l > 0), changing only what must.
-        let around: Vec<u32> = {
-            let t = self.mesh.topology();
-            let mut v: Vec<u32> = t
-                .vertex_faces(m)
-                .flat_map(|f| self.mesh.triangles()[f as usize])
-                .collect();
-            v.sort_unstable();
-            v.dedup();
-            v
-        };
-        let changed = algesurf_mesh::condition_vertex_normals(
-            &self.mesh,
-            &mut self.normals,
-            &around,
-            algesurf_mesh::DEFAULT_MIN_NORMAL_COSINE,
-        );
-        for v in changed {
-            if let Err(i) = self.adjusted_normals.binary_search(&v) {
-                self.adjusted_normals.insert(i, v);
-            }
-        }
+        self.normals.push(normal);
         let t = self.mesh.topology();
         for &e in t.vertex_edges(m) {
             self.ancestor
@@ -157,21 +134,4 @@ impl RefineState {
 
 fn key_eq(x: [u32; 2], y: [u32; 2]) -> bool {
     key(x[0], x[1]) == key(y[0], y[1])
-}
-
-/// The normal given to a vertex inserted by refinement: the unit normal of the limit surface of
-/// Loop's scheme on the refined mesh (the paper's choice of normals, §3), turned to the faces'
-/// side; the area-weighted normal where the Loop normal is undefined.
-fn new_vertex_normal(mesh: &TriMesh, v: u32) -> DVec3 {
-    let mut area = DVec3::ZERO;
-    for f in mesh.topology().vertex_faces(v) {
-        area += mesh.face_normal(f as usize);
-    }
-    let l = loop_limit_normal(mesh, v).unwrap_or(DVec3::ZERO);
-    let l = if l.length() > 0.0 && l.is_finite() {
-        l.normalize()
-    } else {
-        area.normalize_or_zero()
-    };
-    if l.dot(area) < 0.0 { -l } else { l }
 }

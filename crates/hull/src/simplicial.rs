@@ -65,7 +65,6 @@ pub struct SimplicialHull {
     face_map: Vec<u32>,
     input_vertex_count: usize,
     refinements: Vec<Refinement>,
-    adjusted_normals: Vec<u32>,
     options: HullOptions,
 }
 
@@ -89,11 +88,11 @@ impl SimplicialHull {
     /// edge point and giving it the unit Loop limit normal of the refined mesh; rebuild and
     /// repeat, at most [`HullOptions::max_refinement_rounds`] times. The paper splits only the
     /// common edge; that makes slivers whose tetrahedra stay as tall as before and did not
-    /// resolve intersections in our tests, hence the bisection of the faces. Each split also
-    /// re-conditions the normals of the vertices of the faces it tilted so they stay on those
-    /// faces' positive side (`algesurf_mesh::condition_vertex_normals`); the vertices changed
-    /// are listed by [`SimplicialHull::adjusted_normals`]. Input vertices keep their positions
-    /// and ids.
+    /// resolve intersections in our tests, hence the bisection of the faces. A split whose
+    /// Butterfly point would tilt a new face against one of its corners' normals takes a point
+    /// between it and the edge's midpoint instead (at worst the midpoint, which never tilts a
+    /// face), so refinement never changes a normal it was given. Input vertices keep their
+    /// positions, normals and ids.
     ///
     /// # Errors
     /// See [`HullError`]; [`HullError::UnresolvedIntersection`] names the input edge when
@@ -163,7 +162,6 @@ impl SimplicialHull {
                 face_map: Vec::new(),
                 input_vertex_count: state.input_vertex_count,
                 refinements: Vec::new(),
-                adjusted_normals: Vec::new(),
                 options: options.clone(),
             };
             // Overlaps between tetrahedra of different connected components are between
@@ -184,7 +182,6 @@ impl SimplicialHull {
                     normals: state.normals,
                     face_map: state.face_map,
                     refinements: state.refinements,
-                    adjusted_normals: state.adjusted_normals,
                     ..hull
                 });
             }
@@ -202,7 +199,8 @@ impl SimplicialHull {
             if round == options.max_refinement_rounds {
                 // Same-component overlaps that survive every round are an error.
                 return Err(unresolved(format!(
-                    "the limit of {round} rounds is reached"
+                    "the limit of {round} rounds is reached; {}",
+                    hull.tallest_explained(&hits, &state.normals, &state.face_map)
                 )));
             }
             pending = Some(unresolved(String::new()));
@@ -227,6 +225,65 @@ impl SimplicialHull {
             }
             round += 1;
         }
+    }
+
+    /// Names the tallest face tetrahedron among `hits` and the corner normal that makes it
+    /// tall: §3.1's apex height `t_l = (p_l − c)ᵀn_l / n_ijkᵀn_l` grows without bound as `n_l`
+    /// turns into the face's plane, and refinement only helps when the faces around `p_l`
+    /// turn towards the plane orthogonal to `n_l`, which they do not at a sharp rim.
+    fn tallest_explained(
+        &self,
+        hits: &[Intersection],
+        normals: &[DVec3],
+        face_map: &[u32],
+    ) -> String {
+        let pos = self.mesh.positions();
+        let mut best: Option<(f64, u32, Side)> = None;
+        for h in hits {
+            for (el, side) in [
+                (h.first.element, h.first.side),
+                (h.second.element, h.second.side),
+            ] {
+                for f in self.element_faces(el) {
+                    let face = &self.faces[f as usize];
+                    let Some(t) = face.tetrahedron(side) else {
+                        continue;
+                    };
+                    let v = face.vertices;
+                    let longest = (0..3)
+                        .map(|c| pos[v[c] as usize].distance(pos[v[(c + 1) % 3] as usize]))
+                        .fold(0.0, f64::max);
+                    let ratio = t.t.abs() / longest;
+                    if best.is_none_or(|(r, _, _)| ratio > r) {
+                        best = Some((ratio, f, side));
+                    }
+                }
+            }
+        }
+        let Some((ratio, f, side)) = best else {
+            return "the intersecting tetrahedra are edge tetrahedra only".to_string();
+        };
+        let face = &self.faces[f as usize];
+        let (v, cos) = face
+            .vertices
+            .iter()
+            .map(|&v| (v, face.normal.dot(normals[v as usize].normalize())))
+            .min_by(|x, y| x.1.total_cmp(&y.1))
+            .expect("a face has three corners");
+        let which = if (v as usize) < self.input_vertex_count {
+            format!("input vertex {v}")
+        } else {
+            format!("vertex {v} inserted by refinement")
+        };
+        format!(
+            "the tallest of them, the {} tetrahedron of face {f} (in input face {}), stands \
+             {ratio:.2} times its longest edge off the face; the normal of its corner {which} is \
+             {:.1}° from the face's normal (a sharp rim or fold: smoothing or re-meshing it \
+             there, or other normals, helps)",
+            side.name(),
+            face_map[f as usize],
+            cos.clamp(-1.0, 1.0).acos().to_degrees(),
+        )
     }
 
     /// The mesh vertices of an element's tetrahedron (three for a face, two for an edge).
@@ -374,8 +431,10 @@ impl SimplicialHull {
     pub fn mesh(&self) -> &TriMesh {
         &self.mesh
     }
-    /// Per-vertex normals of [`SimplicialHull::mesh`]: the input normals, then the Loop limit
-    /// normals of inserted vertices.
+    /// Per-vertex normals of [`SimplicialHull::mesh`]: the input normals unchanged, then the
+    /// normals of inserted vertices (the Loop limit normal of the refined mesh, or where that
+    /// would fold a face the normalised sum of the split edge's end normals; see
+    /// [`SimplicialHull::new`]).
     pub fn normals(&self) -> &[DVec3] {
         &self.normals
     }
@@ -402,13 +461,6 @@ impl SimplicialHull {
     pub fn input_vertex_count(&self) -> usize {
         self.input_vertex_count
     }
-    /// Vertices (of [`SimplicialHull::mesh`]) whose normals refinement changed so that each
-    /// stays on the positive side of the tilted faces around a new vertex (input vertices among
-    /// them no longer have the normal they were given). Sorted.
-    pub fn adjusted_normals(&self) -> &[u32] {
-        &self.adjusted_normals
-    }
-
     /// The local refinement steps done, in order (empty when the input needed none).
     pub fn refinements(&self) -> &[Refinement] {
         &self.refinements

@@ -117,6 +117,18 @@ impl PatchSurface for Perturbed<'_> {
             g + self.bump.gradient_at(&self.tet, x),
         )
     }
+    fn value_gradient_barycentric(&self, piece: usize, tau: [f64; 4]) -> (f64, DVec3) {
+        let (f, g) = self.inner.value_gradient_barycentric(piece, tau);
+        if piece != self.piece {
+            return (f, g);
+        }
+        // The bump is 1e-6 of F: the rounding of the Cartesian point does not matter for it.
+        let x = self.tet.point(tau);
+        (
+            f + self.bump.eval(tau),
+            g + self.bump.gradient_at(&self.tet, x),
+        )
+    }
     fn interpolation_targets(&self) -> (&[DVec3], &[DVec3]) {
         self.inner.interpolation_targets()
     }

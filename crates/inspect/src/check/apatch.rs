@@ -81,6 +81,10 @@ impl PatchSurface for ApatchView<'_> {
         self.pieces[piece].value_gradient(x)
     }
 
+    fn value_gradient_barycentric(&self, piece: usize, tau: [f64; 4]) -> (f64, DVec3) {
+        self.pieces[piece].value_gradient_at_barycentric(tau)
+    }
+
     fn interpolation_targets(&self) -> (&[DVec3], &[DVec3]) {
         let hull = self.surface.hull();
         (hull.mesh().positions(), hull.normals())

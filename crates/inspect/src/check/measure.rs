@@ -86,9 +86,12 @@ pub fn interpolation<S: PatchSurface + ?Sized>(surface: &S) -> InterpolationMeas
         .into_par_iter()
         .map(|piece| {
             let mut r = InterpolationMeasure::default();
-            for x in surface.piece_simplex(piece) {
+            for (k, x) in surface.piece_simplex(piece).into_iter().enumerate() {
                 if let Some(ids) = index.get(&key(x)) {
-                    let (f, g) = surface.value_gradient(piece, x);
+                    // At the vertex itself: barycentric e_k, exact (see `continuity`).
+                    let mut tau = [0.0; 4];
+                    tau[k] = 1.0;
+                    let (f, g) = surface.value_gradient_barycentric(piece, tau);
                     let (i, a) = ids
                         .iter()
                         .map(|&i| (i, angle(g, normals[i])))
@@ -150,6 +153,14 @@ impl ContinuityMeasure {
 /// the barycentric grid of `level`. Points on the segment between two interpolated vertices
 /// are skipped: there the rational blends of (4.1)/(4.7) are 0/0 (they vanish to second
 /// order, so F is C1 there by continuity, but a sample would measure rounding of 0/0).
+///
+/// Each piece is evaluated at the sample's barycentric coordinates in its own tetrahedron
+/// ([`PatchSurface::value_gradient_barycentric`]), which are exact: the facet's grid weights
+/// on the facet's vertices, 0 on the opposite one. C1 is a statement about the two pieces'
+/// limits *on* the facet; a Cartesian sample point is rounded off the facet by ~ε·|x|, and
+/// there the two pieces' gradients differ by their Hessian jump times that offset (F is only
+/// C1). On fandisk's thin edge tetrahedra (height 2e-5 at |x| ≈ 15, Hessian ~|∇F|·edge/height²)
+/// that term alone was 1.5e-8 of |∇F| while the gradients on the facet agree to 1e-13.
 pub fn continuity<S: PatchSurface + ?Sized>(surface: &S, level: usize) -> ContinuityMeasure {
     let mut by_facet: HashMap<FacetKey, Vec<usize>> = HashMap::new();
     for piece in 0..surface.piece_count() {
@@ -185,6 +196,13 @@ pub fn continuity<S: PatchSurface + ?Sized>(surface: &S, level: usize) -> Contin
                 .map(|i| v[i].distance(v[(i + 1) % 3]))
                 .fold(0.0, f64::max);
             let on_mesh = facet.map(|k| is_vertex.contains(&k));
+            // Where each facet vertex sits in each piece's tetrahedron (bit-exact keys, as
+            // the facets were matched).
+            let local = |piece: usize| {
+                let t = surface.piece_simplex(piece).map(key);
+                facet.map(|k| t.iter().position(|x| *x == k).expect("a facet vertex"))
+            };
+            let (a_index, b_index) = (local(a), local(b));
             let mut m = FacetMeasure {
                 pieces: (a, b),
                 samples: 0,
@@ -199,9 +217,8 @@ pub fn continuity<S: PatchSurface + ?Sized>(surface: &S, level: usize) -> Contin
                     if on_edge {
                         continue;
                     }
-                    let x = v[0] * w[0] + v[1] * w[1] + v[2] * w[2];
-                    let (fa, ga) = surface.value_gradient(a, x);
-                    let (fb, gb) = surface.value_gradient(b, x);
+                    let (fa, ga) = surface.value_gradient_barycentric(a, on_facet(&a_index, w));
+                    let (fb, gb) = surface.value_gradient_barycentric(b, on_facet(&b_index, w));
                     let g = ga.length().max(gb.length());
                     m.samples += 1;
                     // A vanishing gradient on a facet is itself a defect (F is regular
@@ -224,6 +241,16 @@ pub fn continuity<S: PatchSurface + ?Sized>(surface: &S, level: usize) -> Contin
     }
     out.facets = facets;
     out
+}
+
+/// Barycentric coordinates in a piece of the facet point with weights `w` on the facet's
+/// vertices, which sit at `index` in the piece: exact, with 0 on the opposite vertex.
+fn on_facet(index: &[usize; 3], w: [f64; 3]) -> [f64; 4] {
+    let mut tau = [0.0; 4];
+    for z in 0..3 {
+        tau[index[z]] = w[z];
+    }
+    tau
 }
 
 /// `max` that keeps NaN (a failed measurement must not be hidden by `f64::max`).
@@ -293,11 +320,8 @@ pub fn normal_agreement<S: PatchSurface + ?Sized>(
             let mut normals: Vec<(u32, DVec3)> = Vec::new();
             for &patch in patches {
                 for &i in &pieces_of[&patch] {
-                    let tau = tets[i].barycentric(x);
-                    // Contained up to rounding: tessellation points on a facet have
-                    // barycentric coordinates 0 within a few ulps of the unit scale.
-                    if tau.iter().all(|&c| c >= -1e-9) {
-                        normals.push((patch, surface.value_gradient(i, x).1));
+                    if let Some(tau) = contained(&tets[i], x) {
+                        normals.push((patch, surface.value_gradient_barycentric(i, tau).1));
                     }
                 }
             }
@@ -321,4 +345,50 @@ pub fn normal_agreement<S: PatchSurface + ?Sized>(
         angle: angle_worst,
         vertices: boundary.len(),
     })
+}
+
+/// Safety factor on the rounding bound of [`contained`]: the vertex is a convex combination
+/// of tetrahedron vertices (~4 roundings), then `x − v_0` and a dot product with the dual
+/// vector (~4 more); 16 covers them with room to spare and is still rounding level.
+const CONTAINMENT_ROUNDING: f64 = 16.0;
+
+/// The barycentric coordinates in `tet` of the tessellation vertex `x` when `x` lies in `tet`
+/// up to rounding, with the coordinates that are 0 up to rounding set to exactly 0 (and the
+/// rest renormalised); `None` when it lies outside by more than rounding.
+///
+/// The rounding of a computed coordinate: `x` carries ~ε·M (M the size of the coordinates),
+/// and the barycentric map's dual vectors carry a relative error ~ε·κ (κ = diameter ·
+/// max |∇τ_i|, see `Simplex::new`), so `|δτ_i| ≲ ε·(M + κ·diameter)·|∇τ_i|`. A fixed
+/// tolerance in τ (it was 1e-9) ignores that scale: it is far too wide on well-shaped
+/// tetrahedra — it took in a piece on the far side of a split face's plane, 4e-11 away, whose
+/// extrapolated gradient differs by the Hessian jump across that plane (2.9e-8 on fandisk) —
+/// and only ten times the rounding on thin ones (rounding moves τ by ~1e-10 at height 2e-5 and
+/// |x| ≈ 15, and by more on thinner ones). Snapping the coordinates
+/// that vanish up to rounding puts a vertex the tessellation placed on a facet back on it,
+/// where C1 says the pieces' gradients agree; it moves the point by rounding only, so a real
+/// jump of ∇F across the facet is seen in full.
+fn contained(tet: &Tetrahedron, x: DVec3) -> Option<[f64; 4]> {
+    let v = tet.vertices();
+    let g = tet.barycentric_gradients();
+    let size = v.iter().fold(x.length(), |m, p| m.max(p.length()));
+    let mut diam: f64 = 0.0;
+    for a in 0..4 {
+        for b in a + 1..4 {
+            diam = diam.max(v[a].distance(v[b]));
+        }
+    }
+    let kappa = diam * g.iter().map(|d| d.length()).fold(0.0, f64::max);
+    let reach = CONTAINMENT_ROUNDING * f64::EPSILON * (size + kappa * diam);
+    let mut tau = tet.barycentric(x);
+    for i in 0..4 {
+        let tol = reach * g[i].length();
+        if tau[i] < -tol {
+            return None;
+        }
+        if tau[i].abs() <= tol {
+            tau[i] = 0.0;
+        }
+    }
+    let sum: f64 = tau.iter().sum();
+    (sum > 0.0).then(|| tau.map(|t| t / sum))
 }

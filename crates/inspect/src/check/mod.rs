@@ -247,6 +247,20 @@ pub trait PatchSurface: Sync {
     fn piece_simplex(&self, piece: usize) -> [DVec3; 4];
     /// F and ∇F of the piece at `x` (inside or on its tetrahedron).
     fn value_gradient(&self, piece: usize, x: DVec3) -> (f64, DVec3);
+    /// F and ∇F of the piece at the point with barycentric coordinates `tau` (with respect to
+    /// [`PatchSurface::piece_simplex`]). The measurements of continuity and interpolation
+    /// give points on facets and at vertices this way, with exact zeros: a Cartesian point is
+    /// rounded off a facet by ~ε·|x|, and on a thin tetrahedron (height ≪ |x|) F's second
+    /// derivatives turn that offset into a change of ∇F that is no property of F on the facet.
+    /// The default evaluates at the Cartesian point; implement it where the pieces can be
+    /// evaluated in their own barycentric coordinates.
+    fn value_gradient_barycentric(&self, piece: usize, tau: [f64; 4]) -> (f64, DVec3) {
+        let v = self.piece_simplex(piece);
+        self.value_gradient(
+            piece,
+            v[0] * tau[0] + v[1] * tau[1] + v[2] * tau[2] + v[3] * tau[3],
+        )
+    }
     /// The points F interpolates (`F(p_i) = 0`) and the normals there (`∇F(p_i) ∥ n_i`).
     fn interpolation_targets(&self) -> (&[DVec3], &[DVec3]);
     /// A tessellation at `resolution` (points per patch edge minus one).
