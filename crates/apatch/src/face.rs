@@ -61,11 +61,13 @@ fn solve_coefficient(
     target: f64,
     what: &str,
 ) -> Result<(), ApatchError> {
+    // D_d F(m) = 3 b[d, m, m] (see `cubic`): a linear form in the coefficients with weights
+    // 3·w_μ, so the slope is 3·w_λ and the rest the sum over the other coefficients.
+    let w = crate::cubic::blossom_weights(d, m, m);
+    let r = algesurf_bb::multi_index::rank(&lambda);
     poly.set(lambda, 0.0);
-    let rest = poly.directional_derivative(m, &[d]);
-    let mut unit = BbPoly::<f64, 4>::zero(3);
-    unit.set(lambda, 1.0);
-    let slope = unit.directional_derivative(m, &[d]);
+    let rest = 3.0 * w.iter().zip(poly.coeffs()).map(|(a, b)| a * b).sum::<f64>();
+    let slope = 3.0 * w[r];
     let scale = d.iter().map(|x| x.abs()).fold(0.0, f64::max);
     // The slope is 3·(1/4)·δ_c·(multiplicity) for the direction component δ_c crossing the
     // edge; below 1e-12 of the direction's size the direction runs along the edge.

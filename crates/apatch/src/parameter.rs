@@ -143,6 +143,8 @@ impl ApatchSurface {
                 e,
                 slot(side),
                 self.bound_level,
+                // Only `need ≥ 0` is rejected: anything below it may stop early.
+                -f64::MIN_POSITIVE,
             )?;
             if need >= 0.0 {
                 return Err(ApatchError::Degenerate(format!(

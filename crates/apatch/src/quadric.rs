@@ -34,6 +34,47 @@ impl Quadric {
         self.a * x * 2.0 + self.b
     }
 
+    /// The 20 BB coefficients (storage order of `algesurf_bb::multi_index`) of Q as a cubic on
+    /// `tet`, computed about `origin` (a point near the tetrahedron, to keep the products small).
+    ///
+    /// The blossom of a quadratic is `Q[x, y] = xᵀ A y + bᵀ(x + y)/2 + c`; about `o` it is
+    /// `(x − o)ᵀ A (y − o) + ∇Q(o)ᵀ((x − o) + (y − o))/2 + Q(o)`, the same bilinear form (expand
+    /// it). Degree-elevated to a cubic, the blossom is `(Q[x,y] + Q[x,z] + Q[y,z])/3`, and the
+    /// coefficient `λ` is that blossom at the vertices repeated as `λ` says (Farin, "Curves and
+    /// Surfaces for CAGD", §18): the same polynomial `BbPoly::from_cartesian` produces, without
+    /// its generic power-basis composition.
+    pub(crate) fn cubic_coefficients(
+        &self,
+        tet: &algesurf_bb::Tetrahedron,
+        origin: DVec3,
+    ) -> [f64; 20] {
+        let g = self.gradient(origin);
+        let q0 = self.value(origin);
+        let d: [DVec3; 4] = std::array::from_fn(|i| tet.vertex(i) - origin);
+        let mut p = [[0.0; 4]; 4];
+        for i in 0..4 {
+            for j in i..4 {
+                let v = d[i].dot(self.a * d[j]) + g.dot(d[i] + d[j]) * 0.5 + q0;
+                p[i][j] = v;
+                p[j][i] = v;
+            }
+        }
+        let mut out = [0.0; 20];
+        for (l, x) in algesurf_bb::multi_index::iter::<4>(3).zip(out.iter_mut()) {
+            let mut args = [0usize; 3];
+            let mut n = 0;
+            for (s, &times) in l.iter().enumerate() {
+                for _ in 0..times {
+                    args[n] = s;
+                    n += 1;
+                }
+            }
+            let [i, j, k] = args;
+            *x = (p[i][j] + p[i][k] + p[j][k]) / 3.0;
+        }
+        out
+    }
+
     /// Least-squares fit to points `p_i` with gradients `N_i`: `Q(p_i) = 0`, `∇Q(p_i) = N_i`.
     ///
     /// The unknowns are expressed about the centroid and scaled by the neighbourhood radius
@@ -93,13 +134,25 @@ impl Quadric {
                 r[row + 1 + d] = na[d];
             }
         }
-        let svd = m.svd(true, true);
+        // Householder QR first (`m = Q R`, Q with 10 orthonormal columns): then
+        // `‖m x − r‖² = ‖R x − Qᵀr‖² + ‖(I − QQᵀ) r‖²`, so the minimum-norm least-squares
+        // solution of `m` is that of the 10 × 10 `R` with right-hand side `Qᵀr`, and `R` has
+        // `m`'s singular values (Q is orthonormal). The SVD then works on 10 × 10 instead of
+        // 4k × 10 with its 4k × 10 U (Golub–Van Loan §5.4.5, "R-SVD").
+        let qr = m.qr();
+        let mut qtr = r;
+        qr.q_tr_mul(&mut qtr);
+        let rmat = qr.r();
+        if let Some(q) = well_conditioned_solve(&rmat, &qtr) {
+            return Ok(Quadric::from_local(&q, centre, h));
+        }
+        let svd = rmat.svd(true, true);
         // Singular values below 1e-10 of the largest are treated as zero: they are the
         // rank-deficient directions (coplanar data) or noise at the level of f64 rounding in
         // a system whose entries are O(1) by construction.
         let tol = 1e-10 * svd.singular_values.max();
         let q = svd
-            .solve(&r, tol)
+            .solve(&qtr.rows(0, 10).into_owned(), tol)
             .map_err(|e| ApatchError::Degenerate(format!("quadric fit: {e}")))?;
         Ok(Quadric::from_local(q.as_slice(), centre, h))
     }
@@ -126,5 +179,146 @@ impl Quadric {
         let b = bl - a * centre * 2.0;
         let c = centre.dot(a * centre) - bl.dot(centre) + h * q[9];
         Quadric { a, b, c }
+    }
+}
+
+/// `R⁻¹ b[0..10]` by back substitution when the 10 × 10 upper-triangular `R` is certifiably far
+/// from the SVD's rank cut, else `None`.
+///
+/// Why it is the same solution: `σ_max(R) ≤ ‖R‖_F` and `σ_min(R) = 1/‖R⁻¹‖_2 ≥ 1/‖R⁻¹‖_F`, so
+/// `‖R‖_F ‖R⁻¹‖_F < 1e8` proves every singular value above `1e-8 σ_max`, a hundred times the
+/// fit's cut (`1e-10 σ_max`; the hundredfold also covers the rounding of the computed `R⁻¹`,
+/// relative `≈ cond · ε ≤ 1e-8`). Then the SVD solve truncates nothing and equals `R⁻¹ b` in
+/// exact arithmetic. Rank-deficient fits (coplanar neighbourhoods) fail the test and take the
+/// SVD.
+fn well_conditioned_solve(r: &DMatrix<f64>, b: &DVector<f64>) -> Option<[f64; 10]> {
+    const N: usize = 10;
+    if r.nrows() < N || r.ncols() != N {
+        return None;
+    }
+    let mut inv = [[0.0f64; N]; N];
+    // Column j of R⁻¹: back substitution on e_j (upper triangular, so rows ≤ j only).
+    for j in 0..N {
+        for i in (0..=j).rev() {
+            let d = r[(i, i)];
+            if d == 0.0 || !d.is_finite() {
+                return None;
+            }
+            let mut s = if i == j { 1.0 } else { 0.0 };
+            for k in i + 1..=j {
+                s -= r[(i, k)] * inv[k][j];
+            }
+            inv[i][j] = s / d;
+        }
+    }
+    let fro = |f: &dyn Fn(usize, usize) -> f64| {
+        (0..N)
+            .flat_map(|i| (i..N).map(move |j| (i, j)))
+            .map(|(i, j)| f(i, j).powi(2))
+            .sum::<f64>()
+            .sqrt()
+    };
+    let cond = fro(&|i, j| r[(i, j)]) * fro(&|i, j| inv[i][j]);
+    // NaN (an overflowing inverse) fails the test too.
+    if cond.is_nan() || cond >= 1e8 {
+        return None;
+    }
+    let mut x = [0.0; N];
+    for i in (0..N).rev() {
+        let mut s = b[i];
+        for k in i + 1..N {
+            s -= r[(i, k)] * x[k];
+        }
+        x[i] = s / r[(i, i)];
+    }
+    Some(x)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use algesurf_bb::{BbPoly, PowerPoly, Tetrahedron};
+
+    #[test]
+    fn back_substitution_only_where_the_svd_would_truncate_nothing() {
+        // Well conditioned: the same solution as the SVD.
+        let r = DMatrix::<f64>::from_fn(10, 10, |i, j| {
+            if i == j {
+                2.0 + i as f64 * 0.1
+            } else if j > i {
+                ((i * 7 + j * 3) as f64).sin() * 0.3
+            } else {
+                0.0
+            }
+        });
+        let b = DVector::<f64>::from_fn(10, |i, _| (i as f64 * 0.7).cos());
+        let fast = well_conditioned_solve(&r, &b).expect("well conditioned");
+        let svd = r.clone().svd(true, true);
+        let slow = svd.solve(&b, 1e-10 * svd.singular_values.max()).unwrap();
+        for (x, y) in fast.iter().zip(slow.iter()) {
+            assert!((x - y).abs() < 1e-13, "{x} vs {y}");
+        }
+        // Rank deficient (a zero pivot) or nearly so: left to the SVD.
+        let mut singular = r.clone();
+        singular[(9, 9)] = 0.0;
+        assert!(well_conditioned_solve(&singular, &b).is_none());
+        let mut near = r;
+        near[(4, 4)] = 1e-12;
+        assert!(well_conditioned_solve(&near, &b).is_none());
+    }
+
+    #[test]
+    fn cubic_coefficients_are_the_quadric_on_the_tetrahedron() {
+        let q = Quadric {
+            a: DMat3::from_cols_array(&[0.7, 0.2, -0.1, 0.2, -0.4, 0.3, -0.1, 0.3, 0.9]),
+            b: DVec3::new(0.5, -1.2, 0.8),
+            c: -0.3,
+        };
+        // A unit-sized tetrahedron away from the origin, and an origin near it.
+        let o = DVec3::new(4.0, -3.0, 2.5);
+        let tet = Tetrahedron::new([
+            o + DVec3::new(0.0, 0.0, 0.0),
+            o + DVec3::new(1.0, 0.1, 0.0),
+            o + DVec3::new(0.2, 0.9, 0.1),
+            o + DVec3::new(0.3, 0.2, 1.1),
+        ])
+        .unwrap();
+        let coeffs = q.cubic_coefficients(&tet, o + DVec3::new(0.4, 0.3, 0.2));
+        let poly = BbPoly::<f64, 4>::new(3, coeffs.to_vec()).unwrap();
+        // Every point: the BB form's value is Q's (up to the rounding of O(10) terms).
+        for tau in [
+            [1.0, 0.0, 0.0, 0.0],
+            [0.25, 0.25, 0.25, 0.25],
+            [0.1, 0.6, 0.2, 0.1],
+            [0.0, 0.0, 0.3, 0.7],
+        ] {
+            let x = (0..4).map(|i| tet.vertex(i) * tau[i]).sum::<DVec3>();
+            let (got, want) = (poly.eval(tau), q.value(x));
+            assert!(
+                (got - want).abs() < 1e-12 * 50.0,
+                "{got} vs {want} at {tau:?}"
+            );
+        }
+        // And the same coefficients as the generic conversion.
+        let a = q.a.to_cols_array_2d();
+        let mut qp = PowerPoly::<4>::zero(2);
+        for (e, val) in [
+            ([2, 0, 0], a[0][0]),
+            ([0, 2, 0], a[1][1]),
+            ([0, 0, 2], a[2][2]),
+            ([1, 1, 0], 2.0 * a[0][1]),
+            ([1, 0, 1], 2.0 * a[0][2]),
+            ([0, 1, 1], 2.0 * a[1][2]),
+            ([1, 0, 0], q.b.x),
+            ([0, 1, 0], q.b.y),
+            ([0, 0, 1], q.b.z),
+            ([0, 0, 0], q.c),
+        ] {
+            qp.set(&e, val).unwrap();
+        }
+        let generic = BbPoly::from_cartesian(&tet, &qp, 3).unwrap();
+        for (x, y) in coeffs.iter().zip(generic.coeffs()) {
+            assert!((x - y).abs() < 1e-12 * 50.0, "{x} vs {y}");
+        }
     }
 }

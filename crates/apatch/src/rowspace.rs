@@ -39,16 +39,30 @@ impl RowBasis {
             })
             .fold(0.0, f64::max);
         let cut = rel_tol * max_norm;
-        let mut kept = Vec::new();
-        let mut q: Vec<f64> = Vec::new();
-        let mut coeffs: Vec<Vec<f64>> = Vec::new();
+        // At most min(m, n) rows are kept: allocate once.
+        let most = m.min(n);
+        let mut kept = Vec::with_capacity(most);
+        let mut q: Vec<f64> = Vec::with_capacity(most * n);
+        // `h` row k (k + 1 entries) at `coeffs[k(k+1)/2..]`.
+        let mut coeffs: Vec<f64> = Vec::with_capacity(most * (most + 1) / 2);
+        let mut hk = vec![0.0; most];
         let mut v = vec![0.0; n];
+        let norm_of = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
         for i in 0..m {
-            v.copy_from_slice(&a[i * n..(i + 1) * n]);
             let r = kept.len();
-            let mut hk = vec![0.0; r + 1];
-            let norm_of = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+            if r == n {
+                // The kept rows span R^n: every further row's residual is rounding, below the
+                // cut, so it would be dropped; skip the projection.
+                break;
+            }
+            v.copy_from_slice(&a[i * n..(i + 1) * n]);
             let before = norm_of(&v);
+            if before <= cut {
+                // Projection only shrinks the norm, so the residual is below the cut too
+                // (zero rows: equations whose unknowns were all eliminated).
+                continue;
+            }
+            hk[..=r].fill(0.0);
             let mut norm = before;
             // Second pass only where the first cancelled more than half the norm (Daniel,
             // Gragg, Kaufman, Stewart 1976): otherwise one pass is already orthogonal to
@@ -75,12 +89,13 @@ impl RowBasis {
             hk[r] = norm;
             q.extend(v.iter().map(|x| x / norm));
             kept.push(i);
-            coeffs.push(hk);
+            coeffs.extend_from_slice(&hk[..=r]);
         }
         let r = kept.len();
         let mut h = vec![0.0; r * r];
-        for (k, hk) in coeffs.iter().enumerate() {
-            h[k * r..k * r + hk.len()].copy_from_slice(hk);
+        for k in 0..r {
+            let start = k * (k + 1) / 2;
+            h[k * r..k * r + k + 1].copy_from_slice(&coeffs[start..start + k + 1]);
         }
         RowBasis { n, kept, q, h }
     }

@@ -21,7 +21,7 @@
 //! failure, not silently. [`face_bound`] is the grid maximum, kept for comparison.
 
 use algesurf_bb::BbPoly;
-use algesurf_bb::sheet::{certified_triangle_b_min, lemma_2_3_b_min};
+use algesurf_bb::sheet::{certified_triangle_b_min_below, lemma_2_3_b_min};
 
 /// `max_q b_min(q)` over a triangular grid of `level` subdivisions of a face (barycentric
 /// points `(i, j, k)/level`, all of them, corners included: there `b_0 = 0` and they are
@@ -53,6 +53,16 @@ pub fn face_bound(level: usize, base: impl Fn([f64; 3]) -> [f64; 4]) -> f64 {
 /// root, the smallest) once the last two are positive. `None` when `b_0 ≥ 0` or the lift has
 /// another shape.
 pub fn lifted_b_min(base: [f64; 4], lift: [f64; 4]) -> Option<f64> {
+    lifted_b_min_above(base, lift, f64::NEG_INFINITY)
+}
+
+/// [`lifted_b_min`] for a caller that only needs values above `floor`: returns as soon as
+/// some `t` certifies a value `≤ floor` (that value, attained at an actual `t`, so the least
+/// `b` is at most it). Every result above `floor` is exactly [`lifted_b_min`]'s (the same
+/// samples and golden-section steps run). Step 6 on an edge only asks whether a ray needs
+/// more than the largest increment found so far (or more than `−margin`), so most rays stop
+/// at the first sample, `t = 1`.
+pub fn lifted_b_min_above(base: [f64; 4], lift: [f64; 4], floor: f64) -> Option<f64> {
     let [b0, b1, b2, b3] = base;
     let [l0, l1, c2, c3] = lift;
     let scale = lift.iter().fold(0.0f64, |m, x| m.max(x.abs()));
@@ -90,10 +100,18 @@ pub fn lifted_b_min(base: [f64; 4], lift: [f64; 4]) -> Option<f64> {
         need2.max(need3)
     };
     const SAMPLES: usize = 64;
+    // t = 1 first: the usual minimiser on the edges' rays, and a value ≤ floor settles it.
+    let at_end = phi(1.0);
+    if at_end <= floor {
+        return Some(at_end);
+    }
     let mut best = f64::INFINITY;
     let mut best_k = SAMPLES;
     for k in 1..=SAMPLES {
         let v = phi(k as f64 / SAMPLES as f64);
+        if v <= floor {
+            return Some(v);
+        }
         if v < best {
             best = v;
             best_k = k;
@@ -144,12 +162,20 @@ pub const CERTIFIED_MAX_CELLS: usize = 256;
 /// combination of the `r_a` on the face, so that is added to the layer-0 coefficient at
 /// `(1,1,1)` to keep the layers below the true coefficients. `base(q)` gives the true base
 /// coefficients of `sign · F` at the face point `q`. `−∞` when no ray starts where `b_0 < 0`.
+///
+/// `enough`: the search stops as soon as the bound is certified `≤ enough` (see
+/// [`certified_triangle_b_min_below`]). Construction passes `sign·value − margin` for the
+/// apex value it would keep: a bound at or below that leaves the value unchanged, so the
+/// free parameters and F are exactly those the gap-closing search gives, while the reported
+/// bound of such a face is only certified, not within the gap of the true maximum. Pass
+/// `−∞` for the bound within the gap everywhere.
 pub fn certified_face_bound(
     poly: &BbPoly<f64, 4>,
     apex_value: f64,
     sign: f64,
     rational: Option<[f64; 3]>,
     scale: f64,
+    enough: f64,
     base: impl Fn([f64; 3]) -> [f64; 4],
 ) -> f64 {
     let layers = poly.layers::<3>(3).expect("vertex 3 of a tetrahedron");
@@ -163,5 +189,43 @@ pub fn certified_face_bound(
         let c = layers[0].coeff([1, 1, 1]);
         layers[0].set([1, 1, 1], c + low);
     }
-    certified_triangle_b_min(layers, base, CERTIFIED_GAP * scale, CERTIFIED_MAX_CELLS).upper
+    certified_triangle_b_min_below(
+        layers,
+        base,
+        CERTIFIED_GAP * scale,
+        CERTIFIED_MAX_CELLS,
+        enough,
+    )
+    .upper
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lifted_b_min_above_is_exact_above_the_floor_and_certified_below_it() {
+        let lift = [0.0, 0.0, 0.4, 1.0];
+        for base in [
+            [-1.0, 0.3, -0.8, -0.2],
+            [-0.5, -0.4, 0.2, 0.9],
+            [-2.0, 1.5, -1.0, 0.3],
+        ] {
+            let exact = lifted_b_min(base, lift).unwrap();
+            for floor in [exact - 1.0, exact - 1e-9, exact, exact + 1e-9, exact + 1.0] {
+                let got = lifted_b_min_above(base, lift, floor).unwrap();
+                if got > floor {
+                    assert_eq!(got.to_bits(), exact.to_bits(), "{base:?}, floor {floor}");
+                } else {
+                    // A value at some t: the least b is at most it.
+                    assert!(got >= exact, "{got} below the minimum {exact}");
+                }
+                if exact > floor {
+                    assert_eq!(got.to_bits(), exact.to_bits(), "{base:?}, floor {floor}");
+                }
+            }
+        }
+        // b_0 ≥ 0: no bound, whatever the floor.
+        assert_eq!(lifted_b_min_above([0.1, 0.0, 0.0, 0.0], lift, 0.0), None);
+    }
 }

@@ -19,10 +19,10 @@
 //! `b t²` lifting for the single-sheet bound.
 
 use crate::cubic;
-use crate::geometry::{apex_square, exact_barycentric, foot};
+use crate::geometry::{exact_barycentric, foot};
 use crate::rowspace::RowBasis;
 use crate::{ApatchError, Quadric, VertexData};
-use algesurf_bb::{BbPoly, PowerPoly, Tetrahedron, multi_index};
+use algesurf_bb::{BbPoly, Tetrahedron, multi_index};
 use glam::DVec3;
 
 /// One side (apex) of a split face: three cubics on `[p_b, p_c, c, apex]`, `a` = 0, 1, 2 the
@@ -48,19 +48,45 @@ pub struct SplitFace {
 
 /// Linear form of a coefficient of `poly_b` (on `b`) induced by `poly_a` (on `a`): weights
 /// `w_μ` with `coeff_B(λ) = Σ_μ w_μ x_A[μ]` = blossom of A at B's vertices (Lemma 2.2).
-fn continuation_weights(a: &Tetrahedron, b: &Tetrahedron, lambda: [usize; 4]) -> [f64; 20] {
-    let verts: [[f64; 4]; 4] = std::array::from_fn(|s| exact_barycentric(a, b.vertex(s)));
-    let [x, y, z] = cubic::blossom_args(&verts, lambda);
+/// `verts`: B's vertices in A's barycentric coordinates (`exact_barycentric`).
+fn continuation_weights(verts: &[[f64; 4]; 4], lambda: [usize; 4]) -> [f64; 20] {
+    let [x, y, z] = cubic::blossom_args(verts, lambda);
     cubic::blossom_weights(x, y, z)
 }
 
+/// Sparse constraint rows `Σ w_j x_j = rhs`, stored flat (one allocation for all terms: a
+/// split face has about 200 rows).
 struct System {
-    rows: Vec<(Vec<(usize, f64)>, f64)>,
+    /// `(j, w_j)` of every row, row after row.
+    terms: Vec<(usize, f64)>,
+    /// Row `i`'s terms are `terms[starts[i]..starts[i + 1]]`.
+    starts: Vec<usize>,
+    rhs: Vec<f64>,
 }
 
 impl System {
-    fn push(&mut self, terms: Vec<(usize, f64)>, rhs: f64) {
-        self.rows.push((terms, rhs));
+    fn with_capacity(rows: usize, terms: usize) -> Self {
+        let mut starts = Vec::with_capacity(rows + 1);
+        starts.push(0);
+        System {
+            terms: Vec::with_capacity(terms),
+            starts,
+            rhs: Vec::with_capacity(rows),
+        }
+    }
+
+    fn push(&mut self, terms: impl IntoIterator<Item = (usize, f64)>, rhs: f64) {
+        self.terms.extend(terms);
+        self.starts.push(self.terms.len());
+        self.rhs.push(rhs);
+    }
+
+    /// The rows as `(terms, rhs)`.
+    fn rows(&self) -> impl Iterator<Item = (&[(usize, f64)], f64)> + '_ {
+        self.starts
+            .windows(2)
+            .zip(&self.rhs)
+            .map(|(w, r)| (&self.terms[w[0]..w[1]], *r))
     }
 
     /// C0 and C1 between tetrahedra `ia` and `ib` (indices into `tets`), which share a face:
@@ -70,10 +96,10 @@ impl System {
         let opp = (0..4)
             .find(|&s| !(0..4).any(|k| a.vertex(k) == b.vertex(s)))
             .expect("the tetrahedra share a face");
+        let verts: [[f64; 4]; 4] = std::array::from_fn(|s| exact_barycentric(a, b.vertex(s)));
         for lambda in multi_index::iter::<4>(3).filter(|l| l[opp] <= 1) {
-            let w = continuation_weights(a, b, lambda);
-            let mut terms = vec![(ib * 20 + multi_index::rank(&lambda), 1.0)];
-            terms.extend(
+            let w = continuation_weights(&verts, lambda);
+            let terms = std::iter::once((ib * 20 + multi_index::rank(&lambda), 1.0)).chain(
                 w.iter()
                     .enumerate()
                     .filter(|(_, x)| **x != 0.0)
@@ -111,7 +137,9 @@ impl SplitFace {
             }
         }
         let n = tets.len() * 20;
-        let mut sys = System { rows: Vec::new() };
+        // Two apexes: 48 vertex, 12 mid-edge, 6 apex rows and 9 joins of 16 rows (C0 rows
+        // have 2 terms, C1 rows up to 21).
+        let mut sys = System::with_capacity(224, 2048);
         for side in 0..apexes.len() {
             let t0 = side * 3;
             for a in 0..3 {
@@ -128,7 +156,7 @@ impl SplitFace {
                         None,
                     )?;
                     for (l, val) in coeffs {
-                        sys.push(vec![(ti * 20 + multi_index::rank(&l), 1.0)], val);
+                        sys.push([(ti * 20 + multi_index::rank(&l), 1.0)], val);
                     }
                 }
                 // Mid-edge transversal gradient at m = (p_b + p_c)/2 in two directions.
@@ -142,10 +170,10 @@ impl SplitFace {
                     // D_d F(m) = 3 b[d, m, m] (see `cubic`).
                     let weights = cubic::blossom_weights(dir, m, m).map(|w| 3.0 * w);
                     let terms = weights.iter().enumerate().filter(|(_, w)| **w != 0.0);
-                    sys.push(terms.map(|(r, w)| (ti * 20 + r, *w)).collect(), d.dot(g));
+                    sys.push(terms.map(|(r, w)| (ti * 20 + r, *w)), d.dot(g));
                 }
                 // Free parameter at the apex.
-                sys.push(vec![(ti * 20 + 19, 1.0)], f[side]);
+                sys.push([(ti * 20 + 19, 1.0)], f[side]);
             }
             // C1 across the internal faces [p_v, c, apex] of this side.
             for a in 0..3 {
@@ -158,103 +186,25 @@ impl SplitFace {
                 sys.join(&tets, a, 3 + a);
             }
         }
-        // Target: the local quadric family Q + (f − Q(apex)) τ_apex², per sub-tetrahedron.
+        // Target: the local quadric family Q + (f − Q(apex)) τ_apex², per sub-tetrahedron
+        // (the quadric's blossom about the face centroid, see `Quadric::cubic_coefficients`).
         let mut target = vec![0.0; n];
         for (ti, tet) in tets.iter().enumerate() {
             let side = ti / 3;
-            let mut qp = PowerPoly::<4>::zero(2);
-            let a = q.a.to_cols_array_2d();
-            let names = [
-                [2, 0, 0],
-                [0, 2, 0],
-                [0, 0, 2],
-                [1, 1, 0],
-                [1, 0, 1],
-                [0, 1, 1],
-            ];
-            let vals = [
-                a[0][0],
-                a[1][1],
-                a[2][2],
-                2.0 * a[0][1],
-                2.0 * a[0][2],
-                2.0 * a[1][2],
-            ];
-            for (e, val) in names.iter().zip(vals) {
-                qp.set(e, val)?;
-            }
-            qp.set(&[1, 0, 0], q.b.x)?;
-            qp.set(&[0, 1, 0], q.b.y)?;
-            qp.set(&[0, 0, 1], q.b.z)?;
-            qp.set(&[0, 0, 0], q.c)?;
-            // The family of Theorem 4.2: Q + (f − Q(apex)) τ_apex².
+            // The family of Theorem 4.2: Q + (f − Q(apex)) τ_apex²; τ_apex² is 1/3 on the
+            // layer λ_apex = 2 and 1 at the apex (`apex_square`).
             let lift = f[side] - q.value(apexes[side]);
-            let poly = BbPoly::from_cartesian(tet, &qp, 3)?.add_poly(&apex_square().scale(lift));
-            for (r, c) in poly.coeffs().iter().enumerate() {
-                target[ti * 20 + r] = *c;
-            }
-        }
-        // Rows with a single unknown (vertex data (2.1), the free parameters) fix that
-        // coefficient exactly; eliminate them so they carry no solver rounding, then find the
-        // point of the remaining constraint set nearest the target: x = t + A⁺ (b − A t).
-        let mut fixed: Vec<Option<f64>> = vec![None; n];
-        for (terms, r) in &sys.rows {
-            if let [(j, w)] = terms.as_slice() {
-                fixed[*j] = Some(r / w);
-            }
-        }
-        let free: Vec<usize> = (0..n).filter(|&j| fixed[j].is_none()).collect();
-        let mut col = vec![usize::MAX; n];
-        for (k, &j) in free.iter().enumerate() {
-            col[j] = k;
-        }
-        let coupled: Vec<&(Vec<(usize, f64)>, f64)> =
-            sys.rows.iter().filter(|(t, _)| t.len() > 1).collect();
-        let (m, nf) = (coupled.len(), free.len());
-        // Dense row-major m × nf (about 150 × 66 for two apexes).
-        let mut a_mat = vec![0.0; m * nf];
-        let mut rhs = vec![0.0; m];
-        for (i, (terms, r)) in coupled.iter().enumerate() {
-            let mut v = *r;
-            for &(j, w) in terms {
-                match fixed[j] {
-                    Some(x) => v -= w * x,
-                    None => a_mat[i * nf + col[j]] += w,
+            let mut coeffs = q.cubic_coefficients(tet, c);
+            for (l, x) in multi_index::iter::<4>(3).zip(coeffs.iter_mut()) {
+                match l[3] {
+                    2 => *x += lift / 3.0,
+                    3 => *x += lift,
+                    _ => {}
                 }
             }
-            rhs[i] = v;
+            target[ti * 20..ti * 20 + 20].copy_from_slice(&coeffs);
         }
-        let residual_of = |x: &[f64]| -> Vec<f64> {
-            (0..m)
-                .map(|i| {
-                    let row = &a_mat[i * nf..(i + 1) * nf];
-                    rhs[i] - row.iter().zip(x).map(|(a, b)| a * b).sum::<f64>()
-                })
-                .collect()
-        };
-        let mut xf: Vec<f64> = free.iter().map(|&j| target[j]).collect();
-        // Rank cut at 1e-10 of the largest row norm: the constraint matrix repeats conditions
-        // (C0 rows shared by several joins), so exactly dependent rows appear (their residual
-        // after projection is ~1e-16); rows are O(1).
-        let basis = RowBasis::new(&a_mat, m, nf, 1e-10);
-        // x = t + A⁺ (b − A t), then two steps of iterative refinement: each reduces the
-        // constraint residual by the solver's relative accuracy again, ending at rounding level.
-        for _ in 0..3 {
-            let step = basis.solve(&residual_of(&xf));
-            for (x, s) in xf.iter_mut().zip(step) {
-                *x += s;
-            }
-        }
-        let amax = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-        let residual =
-            amax(&residual_of(&xf)) / amax(&rhs).max(amax(&target)).max(f64::MIN_POSITIVE);
-        let mut x = vec![0.0; n];
-        for j in 0..n {
-            x[j] = match fixed[j] {
-                Some(v) => v,
-                None => xf[col[j]],
-            };
-        }
+        let (x, residual) = nearest_solution(&sys, &target);
         let mut sides = Vec::new();
         for side in 0..apexes.len() {
             let polys = std::array::from_fn(|a| {
@@ -269,4 +219,140 @@ impl SplitFace {
             constraint_residual: residual,
         })
     }
+}
+
+/// Representative of `j`'s class in the union–find forest `parent` (with path halving).
+fn find(parent: &mut [usize], mut j: usize) -> usize {
+    while parent[j] != j {
+        parent[j] = parent[parent[j]];
+        j = parent[j];
+    }
+    j
+}
+
+/// The point nearest `target` (Euclidean norm over all coefficients) satisfying every row,
+/// and the largest violation of the rows relative to the size of the right-hand side and the
+/// target.
+///
+/// Two kinds of rows are eliminated exactly before the least-squares solve, so they carry no
+/// solver rounding and the dense system is small (about 60 × 35 instead of 150 × 66 for two
+/// apexes):
+/// * rows with a single unknown (vertex data (2.1), the free parameters) fix it;
+/// * rows `x_i − x_j = 0` (the C0 rows of the joins: a coefficient on a shared facet is the
+///   blossom of its neighbour at the facet's vertices, which `exact_barycentric` makes exact
+///   unit vectors, so the weights are exactly one 1) merge `i` and `j` into one unknown.
+///
+/// A class of merged unknowns that contains a fixed one takes its fixed value (the
+/// least-indexed one; fixed values in one class agree to rounding, which the residual shows).
+/// A free class `c` of `w_c` coefficients with targets `t_j` is one unknown `y_c`, and
+/// `Σ_{j∈c} (y_c − t_j)² = w_c (y_c − t̄_c)² + const` with `t̄_c` their mean, so the problem is
+/// `min Σ_c w_c (y_c − t̄_c)²` subject to the remaining rows `A y = r`: with
+/// `y = t̄ + W^{−1/2} z` it is the minimum-norm `z` of `A W^{−1/2} z = r − A t̄`, which
+/// [`RowBasis`] gives. In exact arithmetic this is the same point as the minimum-norm
+/// correction of all unknowns (the same objective on the same feasible set).
+fn nearest_solution(sys: &System, target: &[f64]) -> (Vec<f64>, f64) {
+    let n = target.len();
+    let mut fixed: Vec<Option<f64>> = vec![None; n];
+    let mut parent: Vec<usize> = (0..n).collect();
+    let is_equality = |terms: &[(usize, f64)], rhs: f64| matches!(terms, [(_, a), (_, b)] if *a == 1.0 && *b == -1.0 && rhs == 0.0);
+    for (terms, r) in sys.rows() {
+        if let [(j, w)] = terms {
+            fixed[*j] = Some(r / w);
+        } else if is_equality(terms, r) {
+            let (a, b) = (find(&mut parent, terms[0].0), find(&mut parent, terms[1].0));
+            // The smaller index represents the class (deterministic whatever the row order).
+            let (lo, hi) = (a.min(b), a.max(b));
+            parent[hi] = lo;
+        }
+    }
+    // Per class (indexed by its representative): fixed value, size, target sum, column.
+    let mut class_fixed: Vec<Option<f64>> = vec![None; n];
+    let mut size = vec![0usize; n];
+    let mut tsum = vec![0.0; n];
+    for j in 0..n {
+        let c = find(&mut parent, j);
+        size[c] += 1;
+        tsum[c] += target[j];
+        if class_fixed[c].is_none() {
+            class_fixed[c] = fixed[j];
+        }
+    }
+    let mut col = vec![usize::MAX; n];
+    let mut classes = Vec::new();
+    for c in 0..n {
+        if parent[c] == c && class_fixed[c].is_none() {
+            col[c] = classes.len();
+            classes.push(c);
+        }
+    }
+    let nf = classes.len();
+    // Column scale 1/√w_c and the class means t̄_c.
+    let inv_sqrt_w: Vec<f64> = classes
+        .iter()
+        .map(|&c| 1.0 / (size[c] as f64).sqrt())
+        .collect();
+    let mean: Vec<f64> = classes.iter().map(|&c| tsum[c] / size[c] as f64).collect();
+    // Value of unknown j: fixed, or its class's.
+    let class_of: Vec<usize> = (0..n).map(|j| find(&mut parent, j)).collect();
+    let coupled: Vec<(&[(usize, f64)], f64)> = sys
+        .rows()
+        .filter(|(t, r)| t.len() > 1 && !is_equality(t, *r))
+        .collect();
+    let m = coupled.len();
+    // Dense row-major m × nf in the unknowns y (unscaled), and the reduced right-hand side.
+    let mut a_mat = vec![0.0; m * nf];
+    let mut rhs = vec![0.0; m];
+    for (i, &(terms, r)) in coupled.iter().enumerate() {
+        let mut v = r;
+        for &(j, w) in terms {
+            let c = class_of[j];
+            match class_fixed[c] {
+                Some(x) => v -= w * fixed[j].unwrap_or(x),
+                None => a_mat[i * nf + col[c]] += w,
+            }
+        }
+        rhs[i] = v;
+    }
+    let residual_of = |y: &[f64]| -> Vec<f64> {
+        (0..m)
+            .map(|i| {
+                let row = &a_mat[i * nf..(i + 1) * nf];
+                rhs[i] - row.iter().zip(y).map(|(a, b)| a * b).sum::<f64>()
+            })
+            .collect()
+    };
+    let mut scaled = a_mat.clone();
+    for row in scaled.chunks_exact_mut(nf.max(1)) {
+        for (a, s) in row.iter_mut().zip(&inv_sqrt_w) {
+            *a *= s;
+        }
+    }
+    // Rank cut at 1e-10 of the largest row norm: the constraint rows repeat conditions (C1
+    // rows implied by others around the apex), so exactly dependent rows appear (their
+    // residual after projection is ~1e-16); rows are O(1) and the column scales in [1/√6, 1].
+    let basis = RowBasis::new(&scaled, m, nf, 1e-10);
+    // y = t̄ + W^{−1/2} A_s⁺ (r − A t̄), then two steps of iterative refinement: each reduces
+    // the constraint residual by the solver's relative accuracy again, ending at rounding level.
+    let mut y = mean;
+    for _ in 0..3 {
+        let step = basis.solve(&residual_of(&y));
+        for ((x, s), w) in y.iter_mut().zip(step).zip(&inv_sqrt_w) {
+            *x += s * w;
+        }
+    }
+    let x: Vec<f64> = (0..n)
+        .map(|j| match (fixed[j], class_fixed[class_of[j]]) {
+            (Some(v), _) | (None, Some(v)) => v,
+            (None, None) => y[col[class_of[j]]],
+        })
+        .collect();
+    // Residual of every row, eliminated ones included, at the final coefficients.
+    let amax = |v: &mut dyn Iterator<Item = f64>| v.fold(0.0f64, |m, x| m.max(x.abs()));
+    let worst = amax(
+        &mut sys
+            .rows()
+            .map(|(terms, r)| r - terms.iter().map(|&(j, w)| w * x[j]).sum::<f64>()),
+    );
+    let size_of = amax(&mut sys.rhs.iter().copied()).max(amax(&mut target.iter().copied()));
+    (x, worst / size_of.max(f64::MIN_POSITIVE))
 }

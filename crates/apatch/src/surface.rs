@@ -1,7 +1,7 @@
 //! The whole C1 function F over the simplicial hull of a mesh, and its free parameters.
 
 use crate::geometry::apex_square;
-use crate::sheet::{certified_face_bound, lifted_b_min};
+use crate::sheet::{certified_face_bound, lifted_b_min_above};
 use crate::{ApatchError, EdgeCubic, EdgeNeighbour, FaceCubic, Quadric, SplitFace, VertexData};
 use algesurf_hull::{Convexity, HullOptions, Side, SimplicialHull};
 use algesurf_mesh::TriMesh;
@@ -43,6 +43,13 @@ pub struct SurfaceOptions {
     pub condition_normals: bool,
     /// What the lengths of the given normals mean. Default [`GradientMagnitudes::AsGiven`].
     pub gradient_magnitudes: GradientMagnitudes,
+    /// Report every face's single-sheet bound ([`FreeParameter::bound`]) within
+    /// [`crate::sheet::CERTIFIED_GAP`] of the true maximum. Default `false`: the certified
+    /// search stops as soon as it proves the chosen value admissible with the margin, which
+    /// gives the same F and the same values but, on such faces, a higher (still guaranteed)
+    /// bound, so a smaller admissible range for [`ApatchSurface::set_free_parameter`]. Set it
+    /// where values are to be moved close to their true bounds.
+    pub tight_face_bounds: bool,
 }
 
 /// How the gradients of F at the vertices get their magnitudes (READING-NOTES: Theorem 4.2
@@ -75,6 +82,7 @@ impl Default for SurfaceOptions {
             bound_level: 8,
             condition_normals: true,
             gradient_magnitudes: GradientMagnitudes::AsGiven,
+            tight_face_bounds: false,
         }
     }
 }
@@ -261,11 +269,11 @@ impl ApatchSurface {
                 p.relative_margin = (p.value - p.bound).abs() / p.scale;
             }
         }
-        // The edge cubics depend on the raised faces: rebuild them if any face changed.
+        // The edge cubics depend on the raised faces: rebuild those next to a raised side.
         let edges = if raise.is_empty() {
             edges
         } else {
-            build_edges(&hull, &faces)?
+            rebuild_raised_edges(&hull, &faces, edges, &raise)?
         };
         let timings = ConstructionTimings {
             hull: hull_time,
@@ -345,6 +353,14 @@ fn build_face(
             }
         }
     };
+    // The level at which the certified face bound may stop (see `tight_face_bounds`).
+    let early_stop = |enough: f64| {
+        if options.tight_face_bounds {
+            f64::NEG_INFINITY
+        } else {
+            enough
+        }
+    };
     let param = |side: Side, value: f64, bound: f64| FreeParameter {
         face: f,
         side,
@@ -368,6 +384,7 @@ fn build_face(
             let sign = if side == Side::Positive { 1.0 } else { -1.0 };
             let mut cubic = FaceCubic::new(v, apex, mids, quadric.value(apex))?;
             let f0 = cubic.f0003();
+            let enough = early_stop(sign * f0 - margin);
             // Bound for sign·F: base coefficients of the ray polynomial of sign·F.
             // Certified over the whole face (not a grid): see `certified_face_bound`.
             let b = certified_face_bound(
@@ -376,9 +393,13 @@ fn build_face(
                 sign,
                 Some(cubic.rational()),
                 scale,
+                // A bound at most this keeps f0 (below): stop there (same value either way).
+                enough,
                 |q| without_apex(cubic.shooting_polynomial(q), f0).map(|x| sign * x),
             );
-            let value = if b.is_finite() {
+            // `b ≤ enough` keeps f0 exactly (tested first so that the rounding of
+            // `enough + margin` cannot move it).
+            let value = if b.is_finite() && b > enough {
                 (sign * f0).max(b + margin) * sign
             } else {
                 f0
@@ -407,22 +428,31 @@ fn build_face(
             for (s, sign) in [(0usize, 1.0), (1usize, -1.0)] {
                 let side = &split.sides[s];
                 let mut worst = f64::NEG_INFINITY;
+                // A bound at most `enough` on all three sub-triangles keeps the value.
+                let enough = early_stop(sign * values[s] - margin);
                 // Rays from each sub-triangle [p_b p_c c] to this side's apex.
                 for a in 0..3 {
                     let poly = crate::cubic::coeffs_of(&side.polys[a]);
-                    let bound =
-                        certified_face_bound(&side.polys[a], values[s], sign, None, scale, |q| {
+                    let bound = certified_face_bound(
+                        &side.polys[a],
+                        values[s],
+                        sign,
+                        None,
+                        scale,
+                        enough,
+                        |q| {
                             let c = crate::cubic::segment(
                                 &poly,
                                 [q[0], q[1], q[2], 0.0],
                                 [0.0, 0.0, 0.0, 1.0],
                             );
                             without_apex(c, values[s]).map(|x| sign * x)
-                        });
+                        },
+                    );
                     worst = worst.max(bound);
                 }
                 bounds[s] = worst;
-                if worst.is_finite() && sign * values[s] < worst + margin {
+                if worst.is_finite() && worst > enough && sign * values[s] < worst + margin {
                     // Raise the apex value; the solution moves by exactly δ·τ_apex² (see
                     // `apex_square`), so no second solve is needed.
                     let delta = worst + margin - sign * values[s];
@@ -472,6 +502,39 @@ fn build_edges(
         .collect()
 }
 
+/// [`build_edges`] after the face sides in `raise` changed: only the edge cubics on a raised
+/// side of one of their two faces are rebuilt. The others are kept; rebuilding them would give
+/// the same bits (an edge cubic is a deterministic function of its two faces' pieces on its
+/// side, and those did not change).
+fn rebuild_raised_edges(
+    hull: &SimplicialHull,
+    faces: &[FaceFunction],
+    mut edges: Vec<[Option<EdgeCubic>; 2]>,
+    raise: &HashMap<(usize, Side), f64>,
+) -> Result<Vec<[Option<EdgeCubic>; 2]>, ApatchError> {
+    let pos = hull.mesh().positions();
+    edges
+        .par_iter_mut()
+        .zip(hull.edges().par_iter())
+        .try_for_each(|(slots, e)| -> Result<(), ApatchError> {
+            let Some(fl) = e.face_l else {
+                return Ok(());
+            };
+            let (pi, pj) = (pos[e.vertices[0] as usize], pos[e.vertices[1] as usize]);
+            for (slot, side) in [(0usize, Side::Positive), (1usize, Side::Negative)] {
+                let raised = raise.contains_key(&(e.face_k as usize, side))
+                    || raise.contains_key(&(fl as usize, side));
+                if raised && slots[slot].is_some() {
+                    let k = faces[e.face_k as usize].edge_neighbour(side, pi, pj)?;
+                    let l = faces[fl as usize].edge_neighbour(side, pi, pj)?;
+                    slots[slot] = Some(EdgeCubic::from_neighbours(pi, pj, &k, &l)?);
+                }
+            }
+            Ok(())
+        })?;
+    Ok(edges)
+}
+
 /// Increments of apex values an edge asks for: `((face, side), δ)`.
 type Needs = Vec<((usize, Side), f64)>;
 
@@ -480,6 +543,9 @@ type Needs = Vec<((usize, Side), f64)>;
 /// common increment `b` of the two faces' apex values for which [`lifted_b_min`] certifies the
 /// ray's smallest root simple. Negative when the current coefficients suffice everywhere on the
 /// grid; `−∞` when no grid ray starts where F has this side's sign.
+///
+/// Only values above `floor` are exact: a result `≤ floor` says the need is at most `floor`
+/// (the callers compare with a threshold, `−margin` or 0, and pass it or just below it).
 pub(crate) fn edge_need(
     hull: &SimplicialHull,
     faces: &[FaceFunction],
@@ -487,6 +553,7 @@ pub(crate) fn edge_need(
     e: usize,
     slot: usize,
     level: usize,
+    floor: f64,
 ) -> Result<f64, ApatchError> {
     let pos = hull.mesh().positions();
     let he = &hull.edges()[e];
@@ -526,7 +593,10 @@ pub(crate) fn edge_need(
                 continue;
             }
             let base = c.map(|v| sign * v);
-            if let Some(b) = lifted_b_min(base, lift.shooting_polynomial(x, y)) {
+            // A ray needing at most the largest need so far (or the floor) cannot change
+            // the maximum above the floor: let it stop at the first t that shows it.
+            let ray_floor = need.max(floor);
+            if let Some(b) = lifted_b_min_above(base, lift.shooting_polynomial(x, y), ray_floor) {
                 need = need.max(b);
             }
         }
@@ -556,7 +626,8 @@ fn edge_increments(
                     continue;
                 };
                 let margin = options.sheet_margin * cubic.polynomial().max_coeff_norm();
-                let need = edge_need(hull, faces, edges, e, slot, options.bound_level)?;
+                // Needs up to −margin ask for nothing: exact only above that.
+                let need = edge_need(hull, faces, edges, e, slot, options.bound_level, -margin)?;
                 if need > -margin {
                     let delta = need + margin;
                     out.push(((he.face_k as usize, side), delta));

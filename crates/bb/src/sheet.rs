@@ -372,6 +372,26 @@ pub fn certified_triangle_b_min(
     gap: f64,
     max_cells: usize,
 ) -> TriangleBound {
+    certified_triangle_b_min_below(layers, sample, gap, max_cells, f64::NEG_INFINITY)
+}
+
+/// [`certified_triangle_b_min`] that also stops as soon as the bound is certified to be at
+/// most `enough`: when the largest upper bound of the cells is `≤ enough`, `upper` (that
+/// largest cell bound, or the sampled value if larger) is returned without closing the gap.
+///
+/// For a caller that only needs to know whether a value `v` already satisfies Lemma 2.3 with
+/// a margin (`enough = v − margin`) this decides the common case with the fewest cells,
+/// often the whole triangle alone: the result is then still a guaranteed upper bound of
+/// `b_min^(1)` over the triangle, only possibly farther above the true maximum than `gap`.
+/// Whenever the result is above `enough`, it is exactly what [`certified_triangle_b_min`]
+/// returns (the search visits the same cells in the same order until that test fires).
+pub fn certified_triangle_b_min_below(
+    layers: [BbPoly<f64, 3>; 4],
+    sample: impl Fn([f64; 3]) -> [f64; 4],
+    gap: f64,
+    max_cells: usize,
+    enough: f64,
+) -> TriangleBound {
     let eval_sample = |q: [f64; 3]| {
         let b = sample(q);
         if b[0] < 0.0 {
@@ -396,6 +416,14 @@ pub fn certified_triangle_b_min(
         upper: cell_upper(cell_minima(&layers, &whole)),
         corners: whole,
     };
+    if root.upper <= enough {
+        // Decided by the whole triangle's coefficients: no sample needed.
+        return TriangleBound {
+            upper: root.upper,
+            sampled: f64::NEG_INFINITY,
+            cells: 1,
+        };
+    }
     let mut sampled = eval_sample(centroid(&root.corners));
     let mut cells = 1;
     let mut heap = std::collections::BinaryHeap::new();
@@ -403,7 +431,7 @@ pub fn certified_triangle_b_min(
         heap.push(root);
     }
     while let Some(top) = heap.peek() {
-        if top.upper - sampled <= gap || cells + 3 > max_cells {
+        if top.upper - sampled <= gap || top.upper <= enough || cells + 3 > max_cells {
             break;
         }
         let c = heap.pop().expect("peeked").corners;

@@ -3,7 +3,9 @@
 //! sampled maximum, and it finds maxima a fixed grid misses.
 
 use algesurf_bb::BbPoly;
-use algesurf_bb::sheet::{certified_triangle_b_min, lemma_2_3_b_min};
+use algesurf_bb::sheet::{
+    certified_triangle_b_min, certified_triangle_b_min_below, lemma_2_3_b_min,
+};
 
 /// Quadratic `c + k Σ_i (q_i − s_i)²` in BB form over the triangle (homogenised with Σ q = 1:
 /// the coefficient of `B_{e_j+e_k}` is the symmetric matrix entry `A_jk`).
@@ -97,4 +99,31 @@ fn a_grid_misses_an_off_grid_maximum_that_the_certified_bound_covers() {
         b.upper <= at_peak + 1e-4,
         "{b:?} not within the gap of {at_peak}"
     );
+}
+
+#[test]
+fn stopping_below_a_level_keeps_the_bound_guaranteed_and_is_exact_above_it() {
+    let layers = bowl_layers([0.37, 0.41, 0.22]);
+    let eval = |q: [f64; 3]| layers_eval(&layers, q);
+    let gap = 1e-4;
+    let full = certified_triangle_b_min(layers.clone(), eval, gap, 1 << 16);
+    let dense = grid_max(&layers, 120);
+    // Far above the bound: decided by the whole triangle.
+    let root = certified_triangle_b_min_below(layers.clone(), eval, gap, 1 << 16, 1e6);
+    assert_eq!(root.cells, 1, "{root:?}");
+    assert!(
+        root.upper >= full.upper && root.upper <= 1e6,
+        "{root:?} vs {full:?}"
+    );
+    // Between the true maximum and the root bound: stops early, still above every sample.
+    let mid = 0.5 * (full.upper + root.upper);
+    let early = certified_triangle_b_min_below(layers.clone(), eval, gap, 1 << 16, mid);
+    assert!(
+        early.upper <= mid && early.upper >= dense,
+        "{early:?}, dense {dense}"
+    );
+    assert!(early.cells <= full.cells, "{early:?} vs {full:?}");
+    // Below the true maximum the level never fires: the same search, the same result.
+    let below = certified_triangle_b_min_below(layers.clone(), eval, gap, 1 << 16, dense - 1.0);
+    assert_eq!(below, full);
 }
