@@ -82,31 +82,8 @@ impl RayPoint {
     }
 }
 
-impl Tessellation {
-    /// Appends the point of ray `r` evaluated by `patch`; returns its id.
-    fn push(&mut self, layout: &mut TessellationLayout, r: &RayPoint, patch: u32) -> u32 {
-        if r.missed {
-            self.missed_rays.push((patch, r.position));
-        }
-        if r.multiple {
-            self.multiple_roots.push((patch, r.position));
-        }
-        self.positions.push(r.position);
-        self.normals.push(r.normal);
-        layout.owner.push(patch);
-        layout.flags.push(r.flags());
-        (self.positions.len() - 1) as u32
-    }
-
-    fn push_triangle(&mut self, t: [u32; 3], patch: u32, kind: PatchKind) {
-        self.triangles.push(t);
-        self.triangle_patch.push(patch);
-        self.triangle_kind.push(kind);
-    }
-}
-
 /// One evaluated ray.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, Default)]
 pub(crate) struct RayPoint {
     pub(crate) position: DVec3,
     pub(crate) normal: DVec3,
@@ -273,6 +250,12 @@ impl ApatchSurface {
 
     /// Triangulates the surface: face patches at resolution `n` (n + 1 points per edge), edge
     /// patches with `n` steps along the edge and `m` across.
+    ///
+    /// Four passes: the rays of all patches (parallel, into flat buffers), the numbering of
+    /// the vertices (serial and integer-only: it decides which rays share a vertex, in patch
+    /// order), then the vertex data and the triangles (parallel gathers and fills whose every
+    /// output slot has one writer). The numbering is that of a serial pass over the patches, so
+    /// the output does not depend on the thread count.
     pub fn tessellate(&self, n: usize, m: usize) -> Result<Tessellation, ApatchError> {
         if n == 0 || m == 0 {
             return Err(ApatchError::Degenerate(
@@ -283,177 +266,341 @@ impl ApatchSurface {
         let nf = mesh.face_count();
         let ne = self.edges().len();
         let grid = face_grid(n);
-        let face_points: Vec<Vec<RayPoint>> = (0..nf)
-            .into_par_iter()
-            .map(|f| self.face_rays(f, &grid, n))
-            .collect();
-        let edge_points: Vec<Vec<RayPoint>> = (0..ne)
-            .into_par_iter()
-            .map(|e| self.edge_rays(e, n, m))
-            .collect();
-
-        let mut out = Tessellation::default();
-        for (v, p) in mesh.positions().iter().enumerate() {
-            out.positions.push(*p);
-            out.normals
-                .push(self.hull().normals()[v].normalize_or_zero());
+        let per_face = grid.len();
+        let inner = (n - 1) * (m - 1);
+        let face_ray_count = nf * per_face;
+        if face_ray_count + ne * inner + mesh.vertex_count() >= u32::MAX as usize {
+            return Err(ApatchError::Degenerate(
+                "the tessellation has more points than 32-bit vertex ids can number".into(),
+            ));
         }
-        let nv = out.positions.len();
-        let mut layout = TessellationLayout {
-            n,
-            m,
-            face_ids: Vec::with_capacity(nf * grid.len()),
-            edge_ids: vec![u32::MAX; ne * (n - 1) * (m - 1)],
-            owner: vec![u32::MAX; nv],
-            flags: vec![0; nv],
-        };
+
+        // 1. Rays.
+        let mut face_rays = vec![RayPoint::default(); face_ray_count];
+        face_rays
+            .par_chunks_mut(per_face)
+            .enumerate()
+            .for_each(|(f, out)| self.face_rays_into(f, &grid, n, out));
+        let mut edge_rays = vec![RayPoint::default(); ne * inner];
+        // `inner = 0` (n or m = 1): no interior rays, and no chunks to split into.
+        if inner > 0 {
+            edge_rays
+                .par_chunks_mut(inner)
+                .enumerate()
+                .for_each(|(e, out)| self.edge_rays_into(e, n, m, out));
+        }
+
+        // 2. Numbering.
         let edges_of = self.face_edges();
-        // Rays that stay on a mesh edge (t = 0), shared by every patch: (edge, s) with s counted
-        // from the edge's first vertex. `u32::MAX`: not created yet.
-        let mut on_edge = vec![u32::MAX; ne * (n + 1)];
-        // Rows of face patches along mesh edges that leave the edge: (face, local edge, s).
-        let mut face_row = vec![u32::MAX; nf * 3 * (n + 1)];
+        let num = self.number_vertices(n, m, &grid, &edges_of, &face_rays, &edge_rays);
+
+        // 3. Vertex data: the mesh vertices, then one ray per vertex.
+        let nv = mesh.vertex_count();
+        let total = nv + num.source.len();
+        let ray = |v: usize| -> &RayPoint {
+            let r = num.source[v - nv] as usize;
+            if r < face_ray_count {
+                &face_rays[r]
+            } else {
+                &edge_rays[r - face_ray_count]
+            }
+        };
+        let owner_of = |v: usize| -> u32 {
+            if v < nv {
+                return u32::MAX;
+            }
+            let r = num.source[v - nv] as usize;
+            if r < face_ray_count {
+                (r / per_face) as u32
+            } else {
+                (nf + (r - face_ray_count) / inner) as u32
+            }
+        };
+        let positions: Vec<DVec3> = (0..total)
+            .into_par_iter()
+            .map(|v| {
+                if v < nv {
+                    mesh.positions()[v]
+                } else {
+                    ray(v).position
+                }
+            })
+            .collect();
+        let normals: Vec<DVec3> = (0..total)
+            .into_par_iter()
+            .map(|v| {
+                if v < nv {
+                    self.hull().normals()[v].normalize_or_zero()
+                } else {
+                    ray(v).normal
+                }
+            })
+            .collect();
+        let flags: Vec<u8> = (0..total)
+            .into_par_iter()
+            .map(|v| if v < nv { 0 } else { ray(v).flags() })
+            .collect();
+        let owner: Vec<u32> = (0..total).into_par_iter().map(owner_of).collect();
+        // In vertex order, like the vertices that carry them.
+        let mut missed_rays = Vec::new();
+        let mut multiple_roots = Vec::new();
+        for (v, &fl) in flags.iter().enumerate() {
+            if fl & (MISSED | MULTIPLE) != 0 {
+                if fl & MISSED != 0 {
+                    missed_rays.push((owner[v], positions[v]));
+                }
+                if fl & MULTIPLE != 0 {
+                    multiple_roots.push((owner[v], positions[v]));
+                }
+            }
+        }
+
+        // 4. Triangles: n² per face patch, then the edge patches'.
+        let n2 = n * n;
+        let edge_tris: Vec<Vec<[u32; 3]>> = (0..ne)
+            .into_par_iter()
+            .map(|e| self.edge_triangles(e, n, m, &edges_of, &num))
+            .collect();
+        let lengths: Vec<usize> = std::iter::repeat_n(n2, nf)
+            .chain(edge_tris.iter().map(Vec::len))
+            .collect();
+        let tri_count: usize = lengths.iter().sum();
+        let mut triangles = vec![[0u32; 3]; tri_count];
+        let mut triangle_patch = vec![0u32; tri_count];
+        let mut triangle_kind = vec![PatchKind::Edge; tri_count];
+        split_by_lengths(&mut triangles, &lengths)
+            .into_par_iter()
+            .zip(split_by_lengths(&mut triangle_patch, &lengths))
+            .zip(split_by_lengths(&mut triangle_kind, &lengths))
+            .enumerate()
+            .for_each(|(p, ((tris, patch), kind))| {
+                patch.fill(p as u32);
+                if p < nf {
+                    let k = if matches!(self.faces()[p], FaceFunction::Planar) {
+                        PatchKind::Planar
+                    } else {
+                        PatchKind::Face
+                    };
+                    kind.fill(k);
+                    face_triangles(&num.face_ids[p * per_face..(p + 1) * per_face], n, tris);
+                } else {
+                    tris.copy_from_slice(&edge_tris[p - nf]);
+                }
+            });
+
+        Ok(Tessellation {
+            positions,
+            normals,
+            triangles,
+            triangle_patch,
+            triangle_kind,
+            missed_rays,
+            multiple_roots,
+            layout: Some(TessellationLayout {
+                n,
+                m,
+                face_ids: num.face_ids,
+                edge_ids: num.edge_ids,
+                owner,
+                flags,
+            }),
+        })
+    }
+
+    /// Numbers the vertices in patch order: face patches by face, each in grid order, then edge
+    /// patches by edge, each row by row; a ray gets a new vertex unless it stays at its start
+    /// on a mesh edge (t = 0) and an earlier patch already made that point.
+    fn number_vertices(
+        &self,
+        n: usize,
+        m: usize,
+        grid: &[[usize; 3]],
+        edges_of: &[[usize; 3]],
+        face_rays: &[RayPoint],
+        edge_rays: &[RayPoint],
+    ) -> Numbering {
+        let mesh = self.hull().mesh();
+        let hull_edges = self.hull().edges();
+        let (nf, ne) = (mesh.face_count(), self.edges().len());
+        let nv = mesh.vertex_count();
+        let per_face = grid.len();
+        let inner = (n - 1) * (m - 1);
+        let classes: Vec<GridPoint> = grid.iter().map(|g| grid_point(g, n)).collect();
+        let mut num = Numbering {
+            face_ids: vec![0; nf * per_face],
+            edge_ids: vec![u32::MAX; ne * inner],
+            source: Vec::with_capacity(face_rays.len() + edge_rays.len()),
+            on_edge: vec![u32::MAX; ne * (n + 1)],
+            face_row: vec![u32::MAX; nf * 3 * (n + 1)],
+        };
+        // The next vertex id for ray `r`.
+        let new = |source: &mut Vec<u32>, r: usize| -> u32 {
+            source.push(r as u32);
+            (nv + source.len() - 1) as u32
+        };
         for f in 0..nf {
             let tri = mesh.triangles()[f];
-            for (g, r) in grid.iter().zip(&face_points[f]) {
-                let id = match grid_point(g, n) {
-                    GridPoint::Corner(k) => tri[k],
+            let ef = edges_of[f];
+            // Whether the face edge opposite z runs against its hull edge: the position s along
+            // the hull edge counts from the hull edge's first vertex.
+            let reversed: [bool; 3] =
+                std::array::from_fn(|z| tri[(z + 1) % 3] == hull_edges[ef[z]].vertices[0]);
+            for (k, (g, class)) in grid.iter().zip(&classes).enumerate() {
+                let r = f * per_face + k;
+                let id = match *class {
+                    GridPoint::Corner(c) => tri[c],
                     GridPoint::Edge(z) => {
-                        let e = edges_of[f][z];
-                        let s = self.edge_position(e, tri, z, g, n);
-                        if r.at_start {
-                            shared(&mut on_edge[e * (n + 1) + s], &mut out, &mut layout, r, f)
+                        let e = ef[z];
+                        // Weight of the edge's other vertex.
+                        let wa = g[(z + 1) % 3];
+                        let s = if reversed[z] { n - wa } else { wa };
+                        if face_rays[r].at_start {
+                            let slot = &mut num.on_edge[e * (n + 1) + s];
+                            if *slot == u32::MAX {
+                                *slot = new(&mut num.source, r);
+                            }
+                            *slot
                         } else {
-                            let id = out.push(&mut layout, r, f as u32);
-                            face_row[(f * 3 + z) * (n + 1) + s] = id;
+                            let id = new(&mut num.source, r);
+                            num.face_row[(f * 3 + z) * (n + 1) + s] = id;
                             id
                         }
                     }
-                    GridPoint::Interior => out.push(&mut layout, r, f as u32),
+                    GridPoint::Interior => new(&mut num.source, r),
                 };
-                layout.face_ids.push(id);
+                num.face_ids[r] = id;
             }
         }
-        let per_face = grid.len();
-        // Face patch triangles.
-        for f in 0..nf {
-            let kind = if matches!(self.faces()[f], FaceFunction::Planar) {
-                PatchKind::Planar
-            } else {
-                PatchKind::Face
-            };
-            let ids = &layout.face_ids[f * per_face..(f + 1) * per_face];
-            for a in 0..n {
-                for b in 0..(n - a) {
-                    // Upward triangle (a+1,b,c) (a,b+1,c) (a,b,c+1), then the downward one.
-                    let t1 = [
-                        ids[grid_index(n, a + 1, b)],
-                        ids[grid_index(n, a, b + 1)],
-                        ids[grid_index(n, a, b)],
-                    ];
-                    out.push_triangle(t1, f as u32, kind);
-                    if a + b + 2 <= n {
-                        let t2 = [
-                            ids[grid_index(n, a + 1, b)],
-                            ids[grid_index(n, a + 1, b + 1)],
-                            ids[grid_index(n, a, b + 1)],
-                        ];
-                        out.push_triangle(t2, f as u32, kind);
-                    }
-                }
-            }
-        }
-        // Edge patches.
-        let inner = (n - 1) * (m - 1);
-        for (e, he) in self.hull().edges().iter().enumerate() {
-            if edge_points[e].is_empty() {
-                continue;
-            }
-            let patch = nf + e;
-            let fl = he.face_l.expect("edge patches are interior") as usize;
-            let [vi, vj] = he.vertices;
-            let local = |f: usize| (0..3).find(|&z| edges_of[f][z] == e).expect("face edge");
-            let (zk, zl) = (local(he.face_k as usize), local(fl));
-            // Grid id at (i, j): i along the edge (x = i/n, x = 1 at p_i), j across (y = j/m,
-            // y = 1 at the k side).
-            let mut ids = vec![0u32; (n + 1) * (m + 1)];
-            for i in 0..=n {
-                for j in 0..=m {
-                    let s = n - i; // from e0 = vi
-                    ids[i * (m + 1) + j] = if i == 0 {
-                        vj
-                    } else if i == n {
-                        vi
-                    } else if j == 0 || j == m {
-                        let (f, z) = if j == m {
-                            (he.face_k as usize, zk)
-                        } else {
-                            (fl, zl)
-                        };
-                        match face_row[(f * 3 + z) * (n + 1) + s] {
-                            u32::MAX => {
-                                let id = on_edge[e * (n + 1) + s];
-                                debug_assert_ne!(id, u32::MAX, "boundary ray of a face patch");
-                                id
-                            }
-                            id => id,
+        if inner > 0 {
+            for e in (0..ne).filter(|&e| self.has_edge_patch(e)) {
+                for k in 0..inner {
+                    let r = e * inner + k;
+                    let s = n - (k / (m - 1) + 1);
+                    let id = if edge_rays[r].at_start {
+                        let slot = &mut num.on_edge[e * (n + 1) + s];
+                        if *slot == u32::MAX {
+                            *slot = new(&mut num.source, face_rays.len() + r);
                         }
+                        *slot
                     } else {
-                        let r = &edge_points[e][(i - 1) * (m - 1) + (j - 1)];
-                        let id = if r.at_start {
-                            shared(
-                                &mut on_edge[e * (n + 1) + s],
-                                &mut out,
-                                &mut layout,
-                                r,
-                                patch,
-                            )
-                        } else {
-                            out.push(&mut layout, r, patch as u32)
-                        };
-                        layout.edge_ids[e * inner + (i - 1) * (m - 1) + (j - 1)] = id;
-                        id
+                        new(&mut num.source, face_rays.len() + r)
                     };
-                }
-            }
-            for i in 0..n {
-                for j in 0..m {
-                    let a = ids[i * (m + 1) + j];
-                    let b = ids[(i + 1) * (m + 1) + j];
-                    let c = ids[(i + 1) * (m + 1) + j + 1];
-                    let d = ids[i * (m + 1) + j + 1];
-                    for t in [[a, c, b], [a, d, c]] {
-                        if t[0] != t[1] && t[1] != t[2] && t[0] != t[2] {
-                            out.push_triangle(t, patch as u32, PatchKind::Edge);
-                        }
-                    }
+                    num.edge_ids[r] = id;
                 }
             }
         }
-        out.layout = Some(layout);
-        Ok(out)
+        num
     }
 
-    /// The rays of face `f` at every point of `grid` (level `n`).
+    /// Whether edge `e` carries an edge patch (it has edge tetrahedra).
+    fn has_edge_patch(&self, e: usize) -> bool {
+        self.edges()[e][0].is_some() || self.edges()[e][1].is_some()
+    }
+
+    /// The triangles of edge `e`'s patch (empty without one).
+    fn edge_triangles(
+        &self,
+        e: usize,
+        n: usize,
+        m: usize,
+        edges_of: &[[usize; 3]],
+        num: &Numbering,
+    ) -> Vec<[u32; 3]> {
+        let inner = (n - 1) * (m - 1);
+        if !self.has_edge_patch(e) {
+            return Vec::new();
+        }
+        let he = &self.hull().edges()[e];
+        let fl = he.face_l.expect("edge patches are interior") as usize;
+        let [vi, vj] = he.vertices;
+        let local = |f: usize| (0..3).find(|&z| edges_of[f][z] == e).expect("face edge");
+        let (zk, zl) = (local(he.face_k as usize), local(fl));
+        // Grid id at (i, j): i along the edge (x = i/n, x = 1 at p_i), j across (y = j/m,
+        // y = 1 at the k side).
+        let mut ids = vec![0u32; (n + 1) * (m + 1)];
+        for i in 0..=n {
+            for j in 0..=m {
+                let s = n - i; // from e0 = vi
+                ids[i * (m + 1) + j] = if i == 0 {
+                    vj
+                } else if i == n {
+                    vi
+                } else if j == 0 || j == m {
+                    let (f, z) = if j == m {
+                        (he.face_k as usize, zk)
+                    } else {
+                        (fl, zl)
+                    };
+                    match num.face_row[(f * 3 + z) * (n + 1) + s] {
+                        u32::MAX => {
+                            let id = num.on_edge[e * (n + 1) + s];
+                            debug_assert_ne!(id, u32::MAX, "boundary ray of a face patch");
+                            id
+                        }
+                        id => id,
+                    }
+                } else {
+                    num.edge_ids[e * inner + (i - 1) * (m - 1) + (j - 1)]
+                };
+            }
+        }
+        let mut out = Vec::with_capacity(2 * n * m);
+        for i in 0..n {
+            for j in 0..m {
+                let a = ids[i * (m + 1) + j];
+                let b = ids[(i + 1) * (m + 1) + j];
+                let c = ids[(i + 1) * (m + 1) + j + 1];
+                let d = ids[i * (m + 1) + j + 1];
+                for t in [[a, c, b], [a, d, c]] {
+                    if t[0] != t[1] && t[1] != t[2] && t[0] != t[2] {
+                        out.push(t);
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// The rays of face `f` at every point of `grid` (level `n`); the corners (mesh vertices,
+    /// whose vertex is the mesh's) are left at `RayPoint::default()`.
     pub(crate) fn face_rays(&self, f: usize, grid: &[[usize; 3]], n: usize) -> Vec<RayPoint> {
-        grid.iter()
-            .map(|g| self.face_ray(f, g.map(|k| k as f64 / n as f64)))
-            .collect()
+        let mut out = vec![RayPoint::default(); grid.len()];
+        self.face_rays_into(f, grid, n, &mut out);
+        out
+    }
+
+    /// [`Self::face_rays`] into `out` (`grid.len()` long).
+    fn face_rays_into(&self, f: usize, grid: &[[usize; 3]], n: usize, out: &mut [RayPoint]) {
+        for (g, r) in grid.iter().zip(out) {
+            if !matches!(grid_point(g, n), GridPoint::Corner(_)) {
+                *r = self.face_ray(f, g.map(|k| k as f64 / n as f64));
+            }
+        }
     }
 
     /// The interior rays of edge `e`'s patch, `(i, j)` for `i < n`, `j < m`, row-major; empty
     /// when the edge has no edge tetrahedra.
     pub(crate) fn edge_rays(&self, e: usize, n: usize, m: usize) -> Vec<RayPoint> {
-        if self.edges()[e][0].is_none() && self.edges()[e][1].is_none() {
+        if !self.has_edge_patch(e) {
             return Vec::new();
         }
-        let mut v = Vec::with_capacity((n - 1) * (m - 1));
+        let mut v = vec![RayPoint::default(); (n - 1) * (m - 1)];
+        self.edge_rays_into(e, n, m, &mut v);
+        v
+    }
+
+    /// [`Self::edge_rays`] into `out` (`(n − 1)(m − 1)` long); untouched without a patch.
+    fn edge_rays_into(&self, e: usize, n: usize, m: usize, out: &mut [RayPoint]) {
+        if !self.has_edge_patch(e) {
+            return;
+        }
+        let mut k = 0;
         for i in 1..n {
             for j in 1..m {
-                v.push(self.edge_ray(e, i as f64 / n as f64, j as f64 / m as f64));
+                out[k] = self.edge_ray(e, i as f64 / n as f64, j as f64 / m as f64);
+                k += 1;
             }
         }
-        v
     }
 
     /// Hull edge of each face's local edge `z` (opposite vertex `z`).
@@ -461,7 +608,7 @@ impl ApatchSurface {
         let mesh = self.hull().mesh();
         let topo = mesh.topology();
         mesh.triangles()
-            .iter()
+            .par_iter()
             .map(|tri| {
                 std::array::from_fn(|z| {
                     topo.find_edge(tri[(z + 1) % 3], tri[(z + 2) % 3])
@@ -469,15 +616,6 @@ impl ApatchSurface {
                 })
             })
             .collect()
-    }
-
-    /// Position `s` along hull edge `e` (from its first vertex) of the grid point `g` on the
-    /// face edge opposite local vertex `z` of `tri`.
-    fn edge_position(&self, e: usize, tri: [u32; 3], z: usize, g: &[usize; 3], n: usize) -> usize {
-        let [e0, _] = self.hull().edges()[e].vertices;
-        // Weight of the edge's other vertex.
-        let wa = g[(z + 1) % 3];
-        if tri[(z + 1) % 3] == e0 { n - wa } else { wa }
     }
 }
 
@@ -515,16 +653,55 @@ fn grid_index(n: usize, a: usize, b: usize) -> usize {
     before + (n - a - b)
 }
 
-/// The id of a shared (t = 0) point, created by the first patch that reaches it.
-fn shared(
-    slot: &mut u32,
-    out: &mut Tessellation,
-    layout: &mut TessellationLayout,
-    r: &RayPoint,
-    patch: usize,
-) -> u32 {
-    if *slot == u32::MAX {
-        *slot = out.push(layout, r, patch as u32);
+/// The vertex numbering of a tessellation (see [`ApatchSurface::tessellate`]).
+struct Numbering {
+    /// Vertex of every face grid point, `face × grid point`.
+    face_ids: Vec<u32>,
+    /// Vertex of every edge-patch interior point, `u32::MAX` where an edge has no patch.
+    edge_ids: Vec<u32>,
+    /// Ray of each vertex after the mesh vertices: face rays first (`face × grid point`),
+    /// then edge rays (`face rays + edge × interior point`).
+    source: Vec<u32>,
+    /// Rays that stay on a mesh edge (t = 0), shared by every patch: `(edge, s)` with `s`
+    /// counted from the edge's first vertex. `u32::MAX`: none.
+    on_edge: Vec<u32>,
+    /// Rows of face patches along mesh edges that leave the edge: `(face, local edge, s)`.
+    face_row: Vec<u32>,
+}
+
+/// The `n²` triangles of a face patch from the vertex ids of its grid (`face_grid` order).
+fn face_triangles(ids: &[u32], n: usize, out: &mut [[u32; 3]]) {
+    let mut k = 0;
+    for a in 0..n {
+        for b in 0..(n - a) {
+            // Upward triangle (a+1,b,c) (a,b+1,c) (a,b,c+1), then the downward one.
+            out[k] = [
+                ids[grid_index(n, a + 1, b)],
+                ids[grid_index(n, a, b + 1)],
+                ids[grid_index(n, a, b)],
+            ];
+            k += 1;
+            if a + b + 2 <= n {
+                out[k] = [
+                    ids[grid_index(n, a + 1, b)],
+                    ids[grid_index(n, a + 1, b + 1)],
+                    ids[grid_index(n, a, b + 1)],
+                ];
+                k += 1;
+            }
+        }
     }
-    *slot
+    debug_assert_eq!(k, out.len(), "a face patch has n² triangles");
+}
+
+/// `s` cut into consecutive pieces of the given lengths (which sum to `s.len()`).
+fn split_by_lengths<'a, T>(mut s: &'a mut [T], lengths: &[usize]) -> Vec<&'a mut [T]> {
+    let mut out = Vec::with_capacity(lengths.len());
+    for &l in lengths {
+        let (a, b) = std::mem::take(&mut s).split_at_mut(l);
+        out.push(a);
+        s = b;
+    }
+    debug_assert!(s.is_empty(), "the lengths cover the slice");
+    out
 }
