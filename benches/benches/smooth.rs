@@ -73,8 +73,8 @@ fn tessellation_corpus(bencher: Bencher, name: &str) {
     };
     let path = std::path::Path::new(&dir).join(format!("{name}.obj"));
     let poly = algesurf::io::read(&path).expect("corpus mesh");
-    let repaired = algesurf::mesh::repair(&poly, &algesurf::mesh::RepairOptions::default())
-        .expect("repair");
+    let repaired =
+        algesurf::mesh::repair(&poly, &algesurf::mesh::RepairOptions::default()).expect("repair");
     let m = TriMesh::from_polygon_mesh(&repaired.mesh).expect("triangle mesh");
     let n = vertex_normals(&m, NormalMethod::Loop).expect("Loop normals");
     let surface = ApatchSurface::new(&m, &n, &SurfaceOptions::default()).expect("surface");

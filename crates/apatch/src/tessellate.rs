@@ -8,14 +8,13 @@
 //! appears twice. Patches are evaluated in parallel and numbered in a serial pass, so the
 //! output is the same for every run and thread count.
 
-use crate::cubic;
-use crate::geometry::gradient_from_partials;
+mod rays;
+
 use crate::surface::FaceFunction;
-use crate::{ApatchError, ApatchSurface, EdgeCubic};
-use algesurf_bb::roots::shooting_root;
-use algesurf_hull::Side;
+use crate::{ApatchError, ApatchSurface};
 use glam::DVec3;
 use rayon::prelude::*;
+use rays::{EdgeRays, FaceRays};
 
 /// What a patch of the output is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -93,161 +92,7 @@ pub(crate) struct RayPoint {
     pub(crate) multiple: bool,
 }
 
-/// `(1 − t) a + t b`.
-fn lerp(a: [f64; 4], b: [f64; 4], t: f64) -> [f64; 4] {
-    std::array::from_fn(|i| (1.0 - t) * a[i] + t * b[i])
-}
-
-/// The smallest root of `sign · c` in [0, 1) and whether it is simple; `None` if it misses.
-fn root(c: [f64; 4], sign: f64) -> Option<(f64, bool)> {
-    let c = c.map(|x| sign * x);
-    let r = shooting_root(c).ok().flatten()?;
-    // Simple when the derivative there is not negligible: p'(t) = 3 Σ Δb_i B_i^2(t), compared
-    // with the coefficient size (a double root has p'(t) = 0 up to rounding, ~1e-16 relative).
-    let t = r.t;
-    let s = 1.0 - t;
-    let d = 3.0 * ((c[1] - c[0]) * s * s + 2.0 * (c[2] - c[1]) * t * s + (c[3] - c[2]) * t * t);
-    let scale = c.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-    Some((t, d.abs() > 1e-10 * scale))
-}
-
-/// Evaluates the ray from `q` to `apex` with shooting coefficients `c` (F along the ray) for
-/// the side `sign` (+1: F ≤ 0 at q, looking for F = 0 towards the apex where F > 0).
-/// `grad(t)` is ∇F at the ray's point of parameter `t` (computed from the point's barycentric
-/// coordinates, which the caller knows exactly as a lerp of the ray's ends).
-fn shoot(q: DVec3, apex: DVec3, c: [f64; 4], sign: f64, grad: impl Fn(f64) -> DVec3) -> RayPoint {
-    // |F(q)| within the rounding of its own evaluation (a few ε times the coefficients it is
-    // combined from): the ray starts on the surface. Treating it as t = 0 keeps rays from a
-    // mesh edge where F vanishes identical from every side.
-    let scale = c.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-    if c[0] == 0.0 || c[0].abs() <= 8.0 * f64::EPSILON * scale {
-        return RayPoint {
-            position: q,
-            normal: grad(0.0).normalize_or_zero(),
-            at_start: true,
-            missed: false,
-            multiple: false,
-        };
-    }
-    match root(c, sign) {
-        Some((t, simple)) => {
-            let x = q + (apex - q) * t;
-            RayPoint {
-                position: x,
-                normal: grad(t).normalize_or_zero(),
-                at_start: t == 0.0,
-                missed: false,
-                multiple: !simple,
-            }
-        }
-        None => RayPoint {
-            position: apex,
-            normal: grad(1.0).normalize_or_zero(),
-            at_start: false,
-            missed: true,
-            multiple: false,
-        },
-    }
-}
-
 impl ApatchSurface {
-    /// The ray of face `f` from the face point with barycentric coordinates `alpha`.
-    fn face_ray(&self, f: usize, alpha: [f64; 3]) -> RayPoint {
-        let m = self.hull().mesh();
-        let tri = m.triangles()[f];
-        let p = tri.map(|v| m.positions()[v as usize]);
-        let q = p[0] * alpha[0] + p[1] * alpha[1] + p[2] * alpha[2];
-        match &self.faces()[f] {
-            FaceFunction::Planar => RayPoint {
-                position: q,
-                normal: m.face_normal(f),
-                at_start: true,
-                missed: false,
-                multiple: false,
-            },
-            FaceFunction::Convex { side, cubic } => {
-                let sign = if *side == Side::Positive { 1.0 } else { -1.0 };
-                let apex = cubic.tetrahedron().vertex(3);
-                let c = cubic.shooting_polynomial(alpha);
-                let a = [alpha[0], alpha[1], alpha[2], 0.0];
-                if sign * c[0] <= 0.0 {
-                    let b = [0.0, 0.0, 0.0, 1.0];
-                    shoot(q, apex, c, sign, |t| cubic.gradient_at_tau(lerp(a, b, t)))
-                } else {
-                    // (4.5): F(q) on the wrong side — the patch dips below the face; shoot
-                    // backwards along the same line, towards 2q − apex. Along that ray the
-                    // polynomial part restricts as usual and the rational term scales as
-                    // (1 + s)³, whose Bernstein coefficients on [0, 1] are 2^k.
-                    let back = [2.0 * alpha[0], 2.0 * alpha[1], 2.0 * alpha[2], -1.0];
-                    let poly = cubic.backward_polynomial(alpha);
-                    let r = c[0] - poly[0];
-                    let cb: [f64; 4] = std::array::from_fn(|k| poly[k] + r * (1u32 << k) as f64);
-                    shoot(q, q * 2.0 - apex, cb, -sign, |t| {
-                        cubic.gradient_at_tau(lerp(a, back, t))
-                    })
-                }
-            }
-            FaceFunction::Split(split) => {
-                // Sub-triangle a = argmin α; coordinates on [p_b, p_c, centroid].
-                let a = (0..3)
-                    .min_by(|&i, &j| alpha[i].total_cmp(&alpha[j]))
-                    .expect("three");
-                let (b, cc) = ((a + 1) % 3, (a + 2) % 3);
-                let tau = [
-                    alpha[b] - alpha[a],
-                    alpha[cc] - alpha[a],
-                    3.0 * alpha[a],
-                    0.0,
-                ];
-                // (4.6): towards u where F(q) ≤ 0, else towards v. The side is decided by the
-                // same b_0 = F(q) the ray uses, so rounding cannot send a ray the wrong way.
-                let apex = [0.0, 0.0, 0.0, 1.0];
-                let coeffs = [0, 1].map(|s| cubic::coeffs_of(&split.sides[s].polys[a]));
-                let ray = |s: usize| cubic::segment(&coeffs[s], tau, apex);
-                let c_up = ray(0);
-                let (s, sign, c) = if c_up[0] <= 0.0 {
-                    (0, 1.0, c_up)
-                } else {
-                    (1, -1.0, ray(1))
-                };
-                let tet = &split.sides[s].tets[a];
-                shoot(q, tet.vertex(3), c, sign, |t| {
-                    let (_, dp) = cubic::value_partials(&coeffs[s], lerp(tau, apex, t));
-                    gradient_from_partials(tet, dp, [0.0; 4])
-                })
-            }
-        }
-    }
-
-    /// The ray of edge `e` from `q = x p_i + (1 − x) p_j` towards `y u_k + (1 − y) u_l`.
-    fn edge_ray(&self, e: usize, x: f64, y: f64) -> RayPoint {
-        let m = self.hull().mesh();
-        let he = &self.hull().edges()[e];
-        let pi = m.positions()[he.vertices[0] as usize];
-        let pj = m.positions()[he.vertices[1] as usize];
-        let q = pi * x + pj * (1.0 - x);
-        let [pos, neg] = &self.edges()[e];
-        // (4.7): positive edge tetrahedron where F(q) ≤ 0, else negative; decided by the b_0
-        // of the ray itself.
-        let (cubic, sign, c) = match (pos, neg) {
-            (Some(p), Some(n)) => {
-                let cp = p.shooting_polynomial(x, y);
-                if cp[0] <= 0.0 {
-                    (p, 1.0, cp)
-                } else {
-                    (n, -1.0, n.shooting_polynomial(x, y))
-                }
-            }
-            (Some(p), None) => (p, 1.0, p.shooting_polynomial(x, y)),
-            (None, Some(n)) => (n, -1.0, n.shooting_polynomial(x, y)),
-            (None, None) => unreachable!("edge patches exist only where edge tetrahedra do"),
-        };
-        let t = cubic.tetrahedron();
-        let target = t.vertex(3) * y + t.vertex(0) * (1.0 - y);
-        let (a, b) = EdgeCubic::ray_ends(x, y);
-        shoot(q, target, c, sign, |t| cubic.gradient_at_tau(lerp(a, b, t)))
-    }
-
     /// Triangulates the surface: face patches at resolution `n` (n + 1 points per edge), edge
     /// patches with `n` steps along the edge and `m` across.
     ///
@@ -275,20 +120,16 @@ impl ApatchSurface {
             ));
         }
 
-        // 1. Rays.
-        let mut face_rays = vec![RayPoint::default(); face_ray_count];
-        face_rays
-            .par_chunks_mut(per_face)
-            .enumerate()
-            .for_each(|(f, out)| self.face_rays_into(f, &grid, n, out));
-        let mut edge_rays = vec![RayPoint::default(); ne * inner];
-        // `inner = 0` (n or m = 1): no interior rays, and no chunks to split into.
-        if inner > 0 {
-            edge_rays
-                .par_chunks_mut(inner)
-                .enumerate()
-                .for_each(|(e, out)| self.edge_rays_into(e, n, m, out));
-        }
+        // 1. Rays, one buffer per patch: each is allocated and written by the thread that
+        // evaluates the patch (a flat buffer would be initialised by one thread first).
+        let face_rays: Vec<Vec<RayPoint>> = (0..nf)
+            .into_par_iter()
+            .map(|f| self.face_rays(f, &grid, n))
+            .collect();
+        let edge_rays: Vec<Vec<RayPoint>> = (0..ne)
+            .into_par_iter()
+            .map(|e| self.edge_rays(e, n, m))
+            .collect();
 
         // 2. Numbering.
         let edges_of = self.face_edges();
@@ -297,50 +138,48 @@ impl ApatchSurface {
         // 3. Vertex data: the mesh vertices, then one ray per vertex.
         let nv = mesh.vertex_count();
         let total = nv + num.source.len();
-        let ray = |v: usize| -> &RayPoint {
+        // The ray of vertex `v ≥ nv` and the patch that evaluated it.
+        let ray = |v: usize| -> (&RayPoint, u32) {
             let r = num.source[v - nv] as usize;
             if r < face_ray_count {
-                &face_rays[r]
+                (
+                    &face_rays[r / per_face][r % per_face],
+                    (r / per_face) as u32,
+                )
             } else {
-                &edge_rays[r - face_ray_count]
+                let r = r - face_ray_count;
+                (&edge_rays[r / inner][r % inner], (nf + r / inner) as u32)
             }
         };
-        let owner_of = |v: usize| -> u32 {
-            if v < nv {
-                return u32::MAX;
-            }
-            let r = num.source[v - nv] as usize;
-            if r < face_ray_count {
-                (r / per_face) as u32
-            } else {
-                (nf + (r - face_ray_count) / inner) as u32
-            }
-        };
-        let positions: Vec<DVec3> = (0..total)
+        let mut positions = Vec::new();
+        let mut normals = Vec::new();
+        (0..total)
             .into_par_iter()
             .map(|v| {
                 if v < nv {
-                    mesh.positions()[v]
+                    (
+                        mesh.positions()[v],
+                        self.hull().normals()[v].normalize_or_zero(),
+                    )
                 } else {
-                    ray(v).position
+                    let r = ray(v).0;
+                    (r.position, r.normal)
                 }
             })
-            .collect();
-        let normals: Vec<DVec3> = (0..total)
+            .unzip_into_vecs(&mut positions, &mut normals);
+        let mut flags = Vec::new();
+        let mut owner = Vec::new();
+        (0..total)
             .into_par_iter()
             .map(|v| {
                 if v < nv {
-                    self.hull().normals()[v].normalize_or_zero()
+                    (0, u32::MAX)
                 } else {
-                    ray(v).normal
+                    let (r, patch) = ray(v);
+                    (r.flags(), patch)
                 }
             })
-            .collect();
-        let flags: Vec<u8> = (0..total)
-            .into_par_iter()
-            .map(|v| if v < nv { 0 } else { ray(v).flags() })
-            .collect();
-        let owner: Vec<u32> = (0..total).into_par_iter().map(owner_of).collect();
+            .unzip_into_vecs(&mut flags, &mut owner);
         // In vertex order, like the vertices that carry them.
         let mut missed_rays = Vec::new();
         let mut multiple_roots = Vec::new();
@@ -416,8 +255,8 @@ impl ApatchSurface {
         m: usize,
         grid: &[[usize; 3]],
         edges_of: &[[usize; 3]],
-        face_rays: &[RayPoint],
-        edge_rays: &[RayPoint],
+        face_rays: &[Vec<RayPoint>],
+        edge_rays: &[Vec<RayPoint>],
     ) -> Numbering {
         let mesh = self.hull().mesh();
         let hull_edges = self.hull().edges();
@@ -429,7 +268,7 @@ impl ApatchSurface {
         let mut num = Numbering {
             face_ids: vec![0; nf * per_face],
             edge_ids: vec![u32::MAX; ne * inner],
-            source: Vec::with_capacity(face_rays.len() + edge_rays.len()),
+            source: Vec::with_capacity(nf * per_face + ne * inner),
             on_edge: vec![u32::MAX; ne * (n + 1)],
             face_row: vec![u32::MAX; nf * 3 * (n + 1)],
         };
@@ -445,6 +284,7 @@ impl ApatchSurface {
             // the hull edge counts from the hull edge's first vertex.
             let reversed: [bool; 3] =
                 std::array::from_fn(|z| tri[(z + 1) % 3] == hull_edges[ef[z]].vertices[0]);
+            let rays = &face_rays[f];
             for (k, (g, class)) in grid.iter().zip(&classes).enumerate() {
                 let r = f * per_face + k;
                 let id = match *class {
@@ -454,7 +294,7 @@ impl ApatchSurface {
                         // Weight of the edge's other vertex.
                         let wa = g[(z + 1) % 3];
                         let s = if reversed[z] { n - wa } else { wa };
-                        if face_rays[r].at_start {
+                        if rays[k].at_start {
                             let slot = &mut num.on_edge[e * (n + 1) + s];
                             if *slot == u32::MAX {
                                 *slot = new(&mut num.source, r);
@@ -472,18 +312,20 @@ impl ApatchSurface {
             }
         }
         if inner > 0 {
-            for e in (0..ne).filter(|&e| self.has_edge_patch(e)) {
-                for k in 0..inner {
+            let face_ray_count = nf * per_face;
+            for (e, rays) in edge_rays.iter().enumerate() {
+                // Empty without an edge patch.
+                for (k, ray) in rays.iter().enumerate() {
                     let r = e * inner + k;
                     let s = n - (k / (m - 1) + 1);
-                    let id = if edge_rays[r].at_start {
+                    let id = if ray.at_start {
                         let slot = &mut num.on_edge[e * (n + 1) + s];
                         if *slot == u32::MAX {
-                            *slot = new(&mut num.source, face_rays.len() + r);
+                            *slot = new(&mut num.source, face_ray_count + r);
                         }
                         *slot
                     } else {
-                        new(&mut num.source, face_rays.len() + r)
+                        new(&mut num.source, face_ray_count + r)
                     };
                     num.edge_ids[r] = id;
                 }
@@ -564,43 +406,28 @@ impl ApatchSurface {
     /// The rays of face `f` at every point of `grid` (level `n`); the corners (mesh vertices,
     /// whose vertex is the mesh's) are left at `RayPoint::default()`.
     pub(crate) fn face_rays(&self, f: usize, grid: &[[usize; 3]], n: usize) -> Vec<RayPoint> {
-        let mut out = vec![RayPoint::default(); grid.len()];
-        self.face_rays_into(f, grid, n, &mut out);
-        out
-    }
-
-    /// [`Self::face_rays`] into `out` (`grid.len()` long).
-    fn face_rays_into(&self, f: usize, grid: &[[usize; 3]], n: usize, out: &mut [RayPoint]) {
-        for (g, r) in grid.iter().zip(out) {
-            if !matches!(grid_point(g, n), GridPoint::Corner(_)) {
-                *r = self.face_ray(f, g.map(|k| k as f64 / n as f64));
-            }
-        }
+        let rays = FaceRays::new(self, f);
+        grid.iter()
+            .map(|g| match grid_point(g, n) {
+                GridPoint::Corner(_) => RayPoint::default(),
+                _ => rays.ray(g.map(|k| k as f64 / n as f64)),
+            })
+            .collect()
     }
 
     /// The interior rays of edge `e`'s patch, `(i, j)` for `i < n`, `j < m`, row-major; empty
     /// when the edge has no edge tetrahedra.
     pub(crate) fn edge_rays(&self, e: usize, n: usize, m: usize) -> Vec<RayPoint> {
-        if !self.has_edge_patch(e) {
+        let Some(rays) = EdgeRays::new(self, e) else {
             return Vec::new();
-        }
-        let mut v = vec![RayPoint::default(); (n - 1) * (m - 1)];
-        self.edge_rays_into(e, n, m, &mut v);
-        v
-    }
-
-    /// [`Self::edge_rays`] into `out` (`(n − 1)(m − 1)` long); untouched without a patch.
-    fn edge_rays_into(&self, e: usize, n: usize, m: usize, out: &mut [RayPoint]) {
-        if !self.has_edge_patch(e) {
-            return;
-        }
-        let mut k = 0;
+        };
+        let mut v = Vec::with_capacity((n - 1) * (m - 1));
         for i in 1..n {
             for j in 1..m {
-                out[k] = self.edge_ray(e, i as f64 / n as f64, j as f64 / m as f64);
-                k += 1;
+                v.push(rays.ray(i as f64 / n as f64, j as f64 / m as f64));
             }
         }
+        v
     }
 
     /// Hull edge of each face's local edge `z` (opposite vertex `z`).
