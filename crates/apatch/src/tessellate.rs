@@ -96,7 +96,7 @@ impl ApatchSurface {
     /// Triangulates the surface: face patches at resolution `n` (n + 1 points per edge), edge
     /// patches with `n` steps along the edge and `m` across.
     ///
-    /// Four passes: the rays of all patches (parallel, into flat buffers), the numbering of
+    /// Four passes: the rays of all patches (parallel, one buffer per patch), the numbering of
     /// the vertices (serial and integer-only: it decides which rays share a vertex, in patch
     /// order), then the vertex data and the triangles (parallel gathers and fills whose every
     /// output slot has one writer). The numbering is that of a serial pass over the patches, so
@@ -531,4 +531,47 @@ fn split_by_lengths<'a, T>(mut s: &'a mut [T], lengths: &[usize]) -> Vec<&'a mut
     }
     debug_assert!(s.is_empty(), "the lengths cover the slice");
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::{ApatchSurface, SurfaceOptions};
+    use algesurf_mesh::shapes::icosphere;
+    use std::collections::HashMap;
+
+    /// Every undirected edge of the triangles is shared by exactly two of them, in opposite
+    /// directions: a closed, consistently oriented surface without holes.
+    fn assert_closed(t: &[[u32; 3]], what: &str) {
+        let mut uses: HashMap<(u32, u32), i32> = HashMap::new();
+        for tri in t {
+            for k in 0..3 {
+                let (a, b) = (tri[k], tri[(k + 1) % 3]);
+                *uses.entry((a.min(b), a.max(b))).or_default() += if a < b { 1 } else { -1 };
+                *uses.entry((a.max(b), a.min(b))).or_default() += 1;
+            }
+        }
+        for ((a, b), c) in &uses {
+            if a < b {
+                assert_eq!(*c, 0, "{what}: edge ({a}, {b}) is not used once each way");
+            } else {
+                assert_eq!(
+                    *c, 2,
+                    "{what}: edge ({b}, {a}) is not shared by two triangles"
+                );
+            }
+        }
+    }
+
+    /// With one step across (`m = 1`) the edge patches have no interior rays but still close
+    /// the gap between the face patches' rows (they were once skipped, leaving holes).
+    #[test]
+    fn coarse_grids_stay_closed_including_one_step_across_edge_patches() {
+        let mesh = icosphere(1);
+        let normals: Vec<_> = mesh.positions().iter().map(|p| p.normalize()).collect();
+        let s = ApatchSurface::new(&mesh, &normals, &SurfaceOptions::default()).unwrap();
+        for (n, m) in [(1, 1), (1, 3), (4, 1), (2, 2), (3, 4)] {
+            let t = s.tessellate(n, m).unwrap();
+            assert_closed(&t.triangles, &format!("tessellate({n}, {m})"));
+        }
+    }
 }
