@@ -140,16 +140,14 @@ impl ApatchSurface {
         let total = nv + num.source.len();
         // The ray of vertex `v ≥ nv` and the patch that evaluated it.
         let ray = |v: usize| -> (&RayPoint, u32) {
-            let r = num.source[v - nv] as usize;
-            if r < face_ray_count {
-                (
-                    &face_rays[r / per_face][r % per_face],
-                    (r / per_face) as u32,
-                )
+            let (patch, k) = num.source[v - nv];
+            let p = patch as usize;
+            let rays = if p < nf {
+                &face_rays[p]
             } else {
-                let r = r - face_ray_count;
-                (&edge_rays[r / inner][r % inner], (nf + r / inner) as u32)
-            }
+                &edge_rays[p - nf]
+            };
+            (&rays[k as usize], patch)
         };
         let mut positions = Vec::new();
         let mut normals = Vec::new();
@@ -272,9 +270,9 @@ impl ApatchSurface {
             on_edge: vec![u32::MAX; ne * (n + 1)],
             face_row: vec![u32::MAX; nf * 3 * (n + 1)],
         };
-        // The next vertex id for ray `r`.
-        let new = |source: &mut Vec<u32>, r: usize| -> u32 {
-            source.push(r as u32);
+        // The next vertex id, for ray `k` of patch `patch`.
+        let new = |source: &mut Vec<(u32, u32)>, patch: usize, k: usize| -> u32 {
+            source.push((patch as u32, k as u32));
             (nv + source.len() - 1) as u32
         };
         for f in 0..nf {
@@ -297,37 +295,38 @@ impl ApatchSurface {
                         if rays[k].at_start {
                             let slot = &mut num.on_edge[e * (n + 1) + s];
                             if *slot == u32::MAX {
-                                *slot = new(&mut num.source, r);
+                                *slot = new(&mut num.source, f, k);
                             }
                             *slot
                         } else {
-                            let id = new(&mut num.source, r);
+                            let id = new(&mut num.source, f, k);
                             num.face_row[(f * 3 + z) * (n + 1) + s] = id;
                             id
                         }
                     }
-                    GridPoint::Interior => new(&mut num.source, r),
+                    GridPoint::Interior => new(&mut num.source, f, k),
                 };
                 num.face_ids[r] = id;
             }
         }
         if inner > 0 {
-            let face_ray_count = nf * per_face;
             for (e, rays) in edge_rays.iter().enumerate() {
-                // Empty without an edge patch.
-                for (k, ray) in rays.iter().enumerate() {
-                    let r = e * inner + k;
-                    let s = n - (k / (m - 1) + 1);
-                    let id = if ray.at_start {
-                        let slot = &mut num.on_edge[e * (n + 1) + s];
-                        if *slot == u32::MAX {
-                            *slot = new(&mut num.source, face_ray_count + r);
-                        }
-                        *slot
-                    } else {
-                        new(&mut num.source, face_ray_count + r)
-                    };
-                    num.edge_ids[r] = id;
+                // Empty without an edge patch; rows i = 1 … n − 1 of m − 1 rays.
+                for (row, rays) in rays.chunks(m - 1).enumerate() {
+                    let s = n - (row + 1);
+                    for (j, ray) in rays.iter().enumerate() {
+                        let k = row * (m - 1) + j;
+                        let id = if ray.at_start {
+                            let slot = &mut num.on_edge[e * (n + 1) + s];
+                            if *slot == u32::MAX {
+                                *slot = new(&mut num.source, nf + e, k);
+                            }
+                            *slot
+                        } else {
+                            new(&mut num.source, nf + e, k)
+                        };
+                        num.edge_ids[e * inner + k] = id;
+                    }
                 }
             }
         }
@@ -486,9 +485,10 @@ struct Numbering {
     face_ids: Vec<u32>,
     /// Vertex of every edge-patch interior point, `u32::MAX` where an edge has no patch.
     edge_ids: Vec<u32>,
-    /// Ray of each vertex after the mesh vertices: face rays first (`face × grid point`),
-    /// then edge rays (`face rays + edge × interior point`).
-    source: Vec<u32>,
+    /// Ray of each vertex after the mesh vertices: `(patch, index of the ray in the patch's
+    /// buffer)`, patches numbered as in [`Tessellation::triangle_patch`] (kept as a pair, not
+    /// a flat ray index, so the gathers need no integer division).
+    source: Vec<(u32, u32)>,
     /// Rays that stay on a mesh edge (t = 0), shared by every patch: `(edge, s)` with `s`
     /// counted from the edge's first vertex. `u32::MAX`: none.
     on_edge: Vec<u32>,
