@@ -58,6 +58,36 @@ fn tessellation(bencher: Bencher, name: &str) {
         .bench_local(|| black_box(&surface).tessellate(8, 8).expect("tessellation"));
 }
 
+/// Corpus meshes for [`tessellation_corpus`], read from `$ALGESURF_CORPUS/NAME.obj` like the
+/// CLI reads them (repair, Loop normals, default surface options).
+const CORPUS: [&str; 3] = ["spot", "fandisk", "teapot"];
+
+/// `tessellate(8, 8)` of a real mesh, the CLI's `smooth --resolution 8` stage: many more points
+/// than fit in cache, split faces and edge patches in the proportions of scanned models. Skipped
+/// (with a note) when `ALGESURF_CORPUS` is not set.
+#[divan::bench(args = CORPUS, sample_count = 10, sample_size = 1)]
+fn tessellation_corpus(bencher: Bencher, name: &str) {
+    let Some(dir) = std::env::var_os("ALGESURF_CORPUS") else {
+        eprintln!("tessellation_corpus: set ALGESURF_CORPUS to the corpus directory");
+        return;
+    };
+    let path = std::path::Path::new(&dir).join(format!("{name}.obj"));
+    let poly = algesurf::io::read(&path).expect("corpus mesh");
+    let repaired =
+        algesurf::mesh::repair(&poly, &algesurf::mesh::RepairOptions::default()).expect("repair");
+    let m = TriMesh::from_polygon_mesh(&repaired.mesh).expect("triangle mesh");
+    let n = vertex_normals(&m, NormalMethod::Loop).expect("Loop normals");
+    let surface = ApatchSurface::new(&m, &n, &SurfaceOptions::default()).expect("surface");
+    let points = surface
+        .tessellate(8, 8)
+        .expect("tessellation")
+        .positions
+        .len();
+    bencher
+        .counter(ItemsCount::new(points))
+        .bench_local(|| black_box(&surface).tessellate(8, 8).expect("tessellation"));
+}
+
 /// A surface, its `tessellate(8, 8)`, and a free parameter in the middle of the list with two
 /// admissible values (its own and one further from its bound).
 fn updatable(

@@ -114,6 +114,89 @@ pub(crate) fn segment(c: &Coeffs, a: [f64; 4], b: [f64; 4]) -> [f64; 4] {
     [dot(caa, a), dot(caa, b), dot(cbb, a), dot(cbb, b)]
 }
 
+/// `p[0] + p[1] + p[2] + p[3]` (left to right, like [`step3`]) over the terms whose bit is set
+/// in the mask `M`, the others being products with an exact zero coordinate.
+///
+/// Why this equals the full sum: a skipped term is `0 · c = ±0`, and `x + (±0) = x` exactly for
+/// every `x` (also when the zero comes first: `±0 + x = x`), except that the sign of an exact
+/// zero result can differ (`−0 + +0 = +0`). Comparisons treat ±0 alike, so every decision
+/// taken on the result is the same.
+#[inline(always)]
+fn sum_masked<const M: u8>(p: [f64; 4]) -> f64 {
+    let mut acc = 0.0;
+    let mut first = true;
+    for (i, &x) in p.iter().enumerate() {
+        if M >> i & 1 == 1 {
+            if first {
+                acc = x;
+                first = false;
+            } else {
+                acc += x;
+            }
+        }
+    }
+    acc
+}
+
+/// [`step3`] for an argument that is zero outside the mask `M` (bit i: coordinate i).
+#[inline(always)]
+fn step3_masked<const M: u8>(c: &Coeffs, a: [f64; 4]) -> [f64; 10] {
+    std::array::from_fn(|r| {
+        let u = UP3[r];
+        sum_masked::<M>([
+            a[0] * c[u[0]],
+            a[1] * c[u[1]],
+            a[2] * c[u[2]],
+            a[3] * c[u[3]],
+        ])
+    })
+}
+
+/// [`step2`] for an argument that is zero outside the mask `M`.
+#[inline(always)]
+fn step2_masked<const M: u8>(c: &[f64; 10], a: [f64; 4]) -> [f64; 4] {
+    std::array::from_fn(|r| {
+        let u = UP2[r];
+        sum_masked::<M>([
+            a[0] * c[u[0]],
+            a[1] * c[u[1]],
+            a[2] * c[u[2]],
+            a[3] * c[u[3]],
+        ])
+    })
+}
+
+/// [`segment`] for end points that vanish outside the masks `MA` and `MB` (bit i: coordinate
+/// i): the products with the zero coordinates are skipped, which leaves the result of
+/// `segment(c, a, b)` bit for bit, up to the sign of exact zeros (see `sum_masked`). The rays
+/// of the tessellation have two or three nonzero coordinates at each end, so this does about
+/// half the work. Debug builds check the masks.
+#[inline]
+pub(crate) fn segment_masked<const MA: u8, const MB: u8>(
+    c: &Coeffs,
+    a: [f64; 4],
+    b: [f64; 4],
+) -> [f64; 4] {
+    debug_assert!(
+        (0..4).all(|i| MA >> i & 1 == 1 || a[i] == 0.0),
+        "a outside its mask"
+    );
+    debug_assert!(
+        (0..4).all(|i| MB >> i & 1 == 1 || b[i] == 0.0),
+        "b outside its mask"
+    );
+    let ca = step3_masked::<MA>(c, a);
+    let cb = step3_masked::<MB>(c, b);
+    let caa = step2_masked::<MA>(&ca, a);
+    let cbb = step2_masked::<MB>(&cb, b);
+    [
+        sum_masked::<MA>(std::array::from_fn(|i| a[i] * caa[i])),
+        sum_masked::<MB>(std::array::from_fn(|i| b[i] * caa[i])),
+        sum_masked::<MA>(std::array::from_fn(|i| a[i] * cbb[i])),
+        sum_masked::<MB>(std::array::from_fn(|i| b[i] * cbb[i])),
+    ]
+}
+
 /// Value and formal partials `∂F/∂τ_i = 3 b[τ, τ, e_i]` at `tau`.
 pub(crate) fn value_partials(c: &Coeffs, tau: [f64; 4]) -> (f64, [f64; 4]) {
     let c1 = step2(&step3(c, tau), tau);
@@ -188,6 +271,31 @@ mod tests {
         let got = segment(&c, a, b);
         for k in 0..4 {
             assert!((got[k] - want.coeffs()[k]).abs() < 1e-14, "b_{k}");
+        }
+    }
+
+    /// `==` on the values with ±0 alike, and the same bits otherwise.
+    fn same(x: f64, y: f64) -> bool {
+        x == y && (x == 0.0 || x.to_bits() == y.to_bits())
+    }
+
+    #[test]
+    fn masked_segments_equal_segment_bit_for_bit() {
+        let c = coeffs_of(&sample());
+        // The ray shapes of the tessellation: face point to apex, edge ray, split-face ray.
+        for k in 0..50 {
+            let x = (k as f64 * 0.37).fract();
+            let y = (k as f64 * 0.61 + 0.1).fract();
+            let (p, q) = (x * (1.0 - y), y * 0.7);
+            let face = [p, q, 1.0 - p - q, 0.0];
+            let apex = [0.0, 0.0, 0.0, 1.0];
+            let got = segment_masked::<0b0111, 0b1000>(&c, face, apex);
+            let want = segment(&c, face, apex);
+            assert!((0..4).all(|i| same(got[i], want[i])), "{got:?} {want:?}");
+            let (a, b) = ([0.0, x, 1.0 - x, 0.0], [1.0 - y, 0.0, 0.0, y]);
+            let got = segment_masked::<0b0110, 0b1001>(&c, a, b);
+            let want = segment(&c, a, b);
+            assert!((0..4).all(|i| same(got[i], want[i])), "{got:?} {want:?}");
         }
     }
 
