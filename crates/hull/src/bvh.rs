@@ -78,38 +78,39 @@ impl Bvh {
         id
     }
 
-    /// All pairs `(i, j)`, `i < j`, of boxes that intersect (closed boxes: touching counts).
-    pub(crate) fn pairs(&self) -> Vec<(u32, u32)> {
-        let mut out = Vec::new();
+    /// Calls `f(j)` for every box `j > i` that intersects box `i` (closed boxes), in the
+    /// tree's order: a query per box, so callers can run the boxes in parallel.
+    pub(crate) fn partners(&self, i: usize, mut f: impl FnMut(u32)) {
         if self.nodes.is_empty() {
-            return out;
+            return;
         }
-        let mut stack = Vec::new();
-        for (i, bx) in self.boxes.iter().enumerate() {
-            stack.clear();
-            stack.push(0usize);
-            while let Some(n) = stack.pop() {
-                let node = &self.nodes[n];
-                if !overlaps(bx, node.lo, node.hi) {
-                    continue;
-                }
-                match node.kind {
-                    Kind::Leaf(s, e) => {
-                        for &j in &self.order[s..e] {
-                            if j as usize > i
-                                && overlaps(bx, self.boxes[j as usize].0, self.boxes[j as usize].1)
-                            {
-                                out.push((i as u32, j));
-                            }
+        let bx = &self.boxes[i];
+        let mut stack = vec![0usize];
+        while let Some(n) = stack.pop() {
+            let node = &self.nodes[n];
+            if !overlaps(bx, node.lo, node.hi) {
+                continue;
+            }
+            match node.kind {
+                Kind::Leaf(s, e) => {
+                    for &j in &self.order[s..e] {
+                        if j as usize > i
+                            && overlaps(bx, self.boxes[j as usize].0, self.boxes[j as usize].1)
+                        {
+                            f(j);
                         }
                     }
-                    Kind::Inner(l, r) => {
-                        stack.push(l);
-                        stack.push(r);
-                    }
+                }
+                Kind::Inner(l, r) => {
+                    stack.push(l);
+                    stack.push(r);
                 }
             }
         }
-        out
+    }
+
+    /// Number of boxes.
+    pub(crate) fn len(&self) -> usize {
+        self.boxes.len()
     }
 }

@@ -8,6 +8,7 @@ use crate::refine::RefineState;
 use crate::{HullError, HullOptions};
 use algesurf_mesh::TriMesh;
 use glam::DVec3;
+use rayon::prelude::*;
 
 /// The mesh element a hull tetrahedron belongs to (ids of the possibly refined mesh).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -411,19 +412,26 @@ impl SimplicialHull {
             })
             .collect();
         let bvh = Bvh::new(boxes);
-        let mut out = Vec::new();
-        for (i, j) in bvh.pairs() {
-            let (a, b) = (&tets[i as usize], &tets[j as usize]);
-            let depth = overlap_depth(&a.vertices, &b.vertices);
-            if depth > self.options.overlap_tolerance {
-                out.push(Intersection {
-                    first: *a,
-                    second: *b,
-                    depth,
+        // One BVH query per tetrahedron, in parallel; `collect` keeps the order of `i`, so
+        // the list (and the refinement driven by it) does not depend on the thread count.
+        (0..bvh.len())
+            .into_par_iter()
+            .flat_map_iter(|i| {
+                let mut found = Vec::new();
+                bvh.partners(i, |j| {
+                    let (a, b) = (&tets[i], &tets[j as usize]);
+                    let depth = overlap_depth(&a.vertices, &b.vertices);
+                    if depth > self.options.overlap_tolerance {
+                        found.push(Intersection {
+                            first: *a,
+                            second: *b,
+                            depth,
+                        });
+                    }
                 });
-            }
-        }
-        out
+                found
+            })
+            .collect()
     }
 
     /// The (possibly refined) mesh the hull is built on. Vertices `0..input_vertex_count()` are
