@@ -48,6 +48,11 @@ fn construction(bencher: Bencher, name: &str) {
 fn tessellation(bencher: Bencher, name: &str) {
     let (m, n) = mesh(name);
     let surface = ApatchSurface::new(&m, &n, &SurfaceOptions::default()).expect("surface");
+    bench_tessellate_8x8(bencher, &surface);
+}
+
+/// Times `surface.tessellate(8, 8)`, counting its points.
+fn bench_tessellate_8x8(bencher: Bencher, surface: &ApatchSurface) {
     let points = surface
         .tessellate(8, 8)
         .expect("tessellation")
@@ -55,7 +60,7 @@ fn tessellation(bencher: Bencher, name: &str) {
         .len();
     bencher
         .counter(ItemsCount::new(points))
-        .bench_local(|| black_box(&surface).tessellate(8, 8).expect("tessellation"));
+        .bench_local(|| black_box(surface).tessellate(8, 8).expect("tessellation"));
 }
 
 /// Corpus meshes for [`tessellation_corpus`], read from `$ALGESURF_CORPUS/NAME.obj` like the
@@ -78,14 +83,7 @@ fn tessellation_corpus(bencher: Bencher, name: &str) {
     let m = TriMesh::from_polygon_mesh(&repaired.mesh).expect("triangle mesh");
     let n = vertex_normals(&m, NormalMethod::Loop).expect("Loop normals");
     let surface = ApatchSurface::new(&m, &n, &SurfaceOptions::default()).expect("surface");
-    let points = surface
-        .tessellate(8, 8)
-        .expect("tessellation")
-        .positions
-        .len();
-    bencher
-        .counter(ItemsCount::new(points))
-        .bench_local(|| black_box(&surface).tessellate(8, 8).expect("tessellation"));
+    bench_tessellate_8x8(bencher, &surface);
 }
 
 /// A surface, its `tessellate(8, 8)`, and a free parameter in the middle of the list with two
