@@ -107,7 +107,7 @@ fn edge_faces(mesh: &TriMesh, a: u32, b: u32) -> Vec<EdgeFace> {
             })?;
             Some(EdgeFace {
                 corners: [tri[k], tri[(k + 1) % 3], tri[(k + 2) % 3]],
-                normal: unit_normal(mesh, tri),
+                normal: mesh.face_normal(f as usize).normalize_or_zero(),
             })
         })
         .collect()
@@ -138,12 +138,6 @@ fn split_faces(mesh: &TriMesh, faces: &[EdgeFace], point: DVec3) -> Vec<NewFace>
         }
     }
     out
-}
-
-/// The unit normal of triangle `t` (zero when degenerate).
-fn unit_normal(mesh: &TriMesh, t: [u32; 3]) -> DVec3 {
-    let p = |c: usize| mesh.positions()[t[c] as usize];
-    (p(1) - p(0)).cross(p(2) - p(0)).normalize_or_zero()
 }
 
 /// Whether every new face keeps its corners' normals on its positive side (see
@@ -216,7 +210,7 @@ mod tests {
         assert!(!valid(&normals, &at_butterfly, DVec3::Z, [0, 1]));
         // The faces predicted are the ones `split_edge` makes, with the same normals.
         for f in refined.mesh.topology().vertex_faces(refined.new_vertex) {
-            let got = unit_normal(&refined.mesh, refined.mesh.triangles()[f as usize]);
+            let got = refined.mesh.face_normal(f as usize).normalize_or_zero();
             let predicted = split_faces(&mesh, &faces, m);
             assert!(
                 predicted

@@ -132,6 +132,14 @@ fn face_name(face_map: &[u32], f: usize) -> String {
     format!("face {} (input face {})", f, face_map[f])
 }
 
+/// The length of a triangle's longest edge: the size all of §3.1's per-face lengths (`ε`,
+/// the apex floor) are taken relative to.
+pub(crate) fn longest_edge(corners: [DVec3; 3]) -> f64 {
+    (0..3)
+        .map(|c| corners[c].distance(corners[(c + 1) % 3]))
+        .fold(0.0, f64::max)
+}
+
 /// Checks vertex data.
 pub(crate) fn check_input(mesh: &TriMesh, normals: &[DVec3]) -> Result<(), HullError> {
     if normals.len() != mesh.vertex_count() {
@@ -216,9 +224,7 @@ pub(crate) fn build(
         let first = topo.face_corners(f).start;
         let fe: [u32; 3] = std::array::from_fn(|c| topo.corner_edge(first + c as u32));
         let convexity = classify_face(fe.map(|e| edges[e as usize].convexity));
-        let longest = (0..3)
-            .map(|c| corners[c].distance(corners[(c + 1) % 3]))
-            .fold(0.0, f64::max);
+        let longest = longest_edge(corners);
         let cross = (corners[1] - corners[0]).cross(corners[2] - corners[0]);
         let area_ok = cross.length() > 1e-14 * longest * longest; // false for NaN too
         if !area_ok {

@@ -9,8 +9,8 @@
 //! longest in both its faces (or on the boundary), split that edge, and repeat until the face
 //! itself has been split. Every split puts the new vertex at the modified Butterfly edge point
 //! (`algesurf_mesh::butterfly_refine_edge`) — pulled towards the edge's midpoint where that
-//! would fold a face against a vertex normal (`crate::edge_point`) — splits the edge in both its faces (conforming, no
-//! T-junctions), and leaves all other vertices where they are. Longest-edge bisection keeps the
+//! would fold a face against a vertex normal (`crate::edge_point`) — splits the edge in both
+//! its faces (conforming, no T-junctions), and leaves all other vertices where they are. Longest-edge bisection keeps the
 //! triangles' angles bounded away from zero, so repeated rounds shrink the faces in every
 //! direction.
 

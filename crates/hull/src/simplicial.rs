@@ -2,7 +2,7 @@
 
 use crate::bvh::Bvh;
 use crate::classify::Side;
-use crate::hull::{HullEdge, HullFace, build as build_faces_edges, check_input};
+use crate::hull::{HullEdge, HullFace, build as build_faces_edges, check_input, longest_edge};
 use crate::overlap::overlap_depth;
 use crate::refine::RefineState;
 use crate::{HullError, HullOptions};
@@ -250,11 +250,7 @@ impl SimplicialHull {
                     let Some(t) = face.tetrahedron(side) else {
                         continue;
                     };
-                    let v = face.vertices;
-                    let longest = (0..3)
-                        .map(|c| pos[v[c] as usize].distance(pos[v[(c + 1) % 3] as usize]))
-                        .fold(0.0, f64::max);
-                    let ratio = t.t.abs() / longest;
+                    let ratio = t.t.abs() / longest_edge(face.vertices.map(|v| pos[v as usize]));
                     if best.is_none_or(|(r, _, _)| ratio > r) {
                         best = Some((ratio, f, side));
                     }
