@@ -15,6 +15,30 @@ pub enum ApatchError {
     /// degenerate (e.g. a direction along an edge that should cross it).
     #[error("degenerate configuration: {0}")]
     Degenerate(String),
+    /// A ray of an edge A-patch (4.9) that Step 6 cannot make single-sheeted: its smallest
+    /// root in `[0, 1)` is not certified simple, and raising the faces' apex values does not
+    /// help, because the lift it receives from them (their `τ_apex²` continued C1 into the
+    /// edge tetrahedron) is negative on its layers 2 or 3 (Lemma 2.3 needs them `≥ 0`). That
+    /// happens when the edge tetrahedron lies far outside its faces' tetrahedra measured in
+    /// their size (a flat face tetrahedron next to a tall neighbour).
+    #[error(
+        "edge A-patch of edge ({}, {}) between input faces {} and {} ({side} side): the ray \
+         from x = {x} along the edge to y = {y} along the apex segment cannot be made \
+         single-sheeted: raising the apex values lowers it there (Step 6, Lemma 2.3)",
+        vertices[0], vertices[1], faces[0], faces[1]
+    )]
+    UnliftableEdgeRay {
+        /// The hull edge's vertex ids (of the hull's possibly refined mesh).
+        vertices: [u32; 2],
+        /// The input faces of the edge's two faces.
+        faces: [u32; 2],
+        /// `"positive"` or `"negative"`.
+        side: &'static str,
+        /// The ray's start `q = x p_i + (1 − x) p_j` on the edge.
+        x: f64,
+        /// Its end `u = y u_k + (1 − y) u_l` on the apex segment.
+        y: f64,
+    },
     /// Two tetrahedra that must share a face do not.
     #[error("inconsistent hull: {0}")]
     Inconsistent(String),

@@ -1,7 +1,7 @@
 //! The whole C1 function F over the simplicial hull of a mesh, and its free parameters.
 
 use crate::geometry::apex_square;
-use crate::sheet::{certified_face_bound, lifted_b_min_above};
+use crate::sheet::{certified_face_bound, lifted_b_min, lifted_b_min_above};
 use crate::{ApatchError, EdgeCubic, EdgeNeighbour, FaceCubic, Quadric, SplitFace, VertexData};
 use algesurf_hull::{Convexity, HullOptions, Side, SimplicialHull};
 use algesurf_mesh::TriMesh;
@@ -596,8 +596,26 @@ pub(crate) fn edge_need(
             // A ray needing at most the largest need so far (or the floor) cannot change
             // the maximum above the floor: let it stop at the first t that shows it.
             let ray_floor = need.max(floor);
-            if let Some(b) = lifted_b_min_above(base, lift.shooting_polynomial(x, y), ray_floor) {
-                need = need.max(b);
+            let lift_xy = lift.shooting_polynomial(x, y);
+            match lifted_b_min_above(base, lift_xy, ray_floor) {
+                Some(b) => need = need.max(b),
+                // `None` with `b_0 < 0`: the lift has a negative layer 2 or 3 on this ray, so
+                // raising the apex values is no remedy. The ray is fine only if it already
+                // satisfies Lemma 2.3 (some t with layers 2 and 3 of [0, t] positive: the
+                // need for a pure positive lift is ≤ 0).
+                None if base[0] < 0.0 => {
+                    let own = lifted_b_min(base, [0.0, 0.0, 1.0, 1.0]);
+                    if !own.is_some_and(|b| b <= 0.0) {
+                        return Err(ApatchError::UnliftableEdgeRay {
+                            vertices: he.vertices,
+                            faces: [he.face_k, fl].map(|f| hull.faces()[f as usize].source_face),
+                            side: side.name(),
+                            x,
+                            y,
+                        });
+                    }
+                }
+                None => {}
             }
         }
     }

@@ -208,6 +208,7 @@ mod tests {
             normals: crate::smooth::SmoothNormals::Loop,
             free_parameters: crate::smooth::FreeParametersArg::Quadric,
             gradients: crate::smooth::GradientsArg::Given,
+            apex: crate::smooth::ApexArg::Nearest,
         }
     }
 }

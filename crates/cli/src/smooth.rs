@@ -79,6 +79,25 @@ pub enum FreeParametersArg {
     Linear,
 }
 
+/// Where `--apex` puts the apexes of the face tetrahedra.
+#[derive(clap::ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ApexArg {
+    /// The point nearest the face's centroid that satisfies the paper's conditions: low
+    /// tetrahedra at sharp rims, where the paper's stand several face widths high.
+    Nearest,
+    /// The paper's: on the face normal through the centroid (§3.1).
+    Normal,
+}
+
+impl ApexArg {
+    fn placement(self) -> algesurf_hull::ApexPlacement {
+        match self {
+            ApexArg::Nearest => algesurf_hull::ApexPlacement::Nearest,
+            ApexArg::Normal => algesurf_hull::ApexPlacement::FaceNormal,
+        }
+    }
+}
+
 /// How `--gradients` reads the lengths of the vertex normals.
 #[derive(clap::ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
 pub enum GradientsArg {
@@ -176,6 +195,9 @@ pub struct SurfaceArgs {
     /// What the lengths of the normals mean (the gradients of the surface's function).
     #[arg(long, value_enum, default_value_t = GradientsArg::Given)]
     pub gradients: GradientsArg,
+    /// Where the apexes of the face tetrahedra go.
+    #[arg(long, value_enum, default_value_t = ApexArg::Nearest)]
+    pub apex: ApexArg,
 }
 
 type BoxError = Box<dyn std::error::Error>;
@@ -466,6 +488,10 @@ pub(crate) fn build(
     let options = SurfaceOptions {
         free_parameters: args.free_parameters.rule(),
         gradient_magnitudes: args.gradients.magnitudes(),
+        hull: algesurf_hull::HullOptions {
+            apex: args.apex.placement(),
+            ..algesurf_hull::HullOptions::default()
+        },
         ..SurfaceOptions::default()
     };
     // Ids in hull and surface errors are those of the repaired mesh.

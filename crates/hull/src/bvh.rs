@@ -78,9 +78,15 @@ impl Bvh {
         id
     }
 
-    /// Calls `f(j)` for every box `j > i` that intersects box `i` (closed boxes), in the
-    /// tree's order: a query per box, so callers can run the boxes in parallel.
-    pub(crate) fn partners(&self, i: usize, mut f: impl FnMut(u32)) {
+    /// Calls `f(j)` for every box `j ≠ i` that intersects box `i` (closed boxes) and that
+    /// `keep` accepts, in the tree's order: a query per box, so callers can run the boxes in
+    /// parallel.
+    pub(crate) fn overlapping(
+        &self,
+        i: usize,
+        keep: impl Fn(usize) -> bool,
+        mut f: impl FnMut(u32),
+    ) {
         if self.nodes.is_empty() {
             return;
         }
@@ -94,7 +100,8 @@ impl Bvh {
             match node.kind {
                 Kind::Leaf(s, e) => {
                     for &j in &self.order[s..e] {
-                        if j as usize > i
+                        if j as usize != i
+                            && keep(j as usize)
                             && overlaps(bx, self.boxes[j as usize].0, self.boxes[j as usize].1)
                         {
                             f(j);

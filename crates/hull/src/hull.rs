@@ -1,12 +1,15 @@
 //! Face tetrahedra (§3.1) and edge tetrahedra (§3.2) of one mesh, without refinement.
 
+use crate::apex::{nearest_apex, nearest_apex_pair};
 use crate::classify::{
     ApexParameters, Convexity, Side, apex_parameters, classify_edge, classify_face, edge_slopes,
 };
-use crate::{HullError, HullOptions};
+use crate::{ApexPlacement, HullError, HullOptions};
 use algesurf_bb::Tetrahedron;
 use algesurf_mesh::TriMesh;
 use glam::DVec3;
+use rayon::prelude::*;
+use std::collections::HashMap;
 
 /// A face tetrahedron `[p_i p_j p_k w]` of §3.1, `w` the apex `u_ijk` (positive side) or
 /// `v_ijk` (negative side).
@@ -18,10 +21,13 @@ use glam::DVec3;
 pub struct FaceTetrahedron {
     /// Positive (`u`) or negative (`v`).
     pub side: Side,
-    /// `t` with apex `= c + t n_ijk`: the paper's `t_max` or `t_min`, pushed away from the face
-    /// to at least [`HullOptions::min_apex_height`] times the longest edge when smaller (a
-    /// floor the paper does not have; it only acts where the paper's value would make the
-    /// tetrahedron (nearly) flat and keeps every property `t_max`/`t_min` exist for).
+    /// The apex's signed height over the face, `t = (apex − c)ᵀn_ijk`. With
+    /// [`ApexPlacement::FaceNormal`] the apex is `c + t n_ijk` and `t` the paper's `t_max` or
+    /// `t_min`, pushed away from the face to at least [`HullOptions::min_apex_height`] times
+    /// the longest edge when smaller (a floor the paper does not have; it only acts where the
+    /// paper's value would make the tetrahedron (nearly) flat and keeps every property
+    /// `t_max`/`t_min` exist for). With [`ApexPlacement::Nearest`] (the default) `|t|` is at
+    /// most that.
     pub t: f64,
     /// The apex.
     pub apex: DVec3,
@@ -166,11 +172,22 @@ pub(crate) fn check_input(mesh: &TriMesh, normals: &[DVec3]) -> Result<(), HullE
 }
 
 /// Builds faces and edges (classification, face and edge tetrahedra) of `mesh`.
+/// Apexes `[u, v]` of the previous refinement round, by corner ids: a face with the same
+/// corners has the same positions and normals (refinement only appends vertices and never
+/// changes a normal), so its apexes are the same.
+pub(crate) type ApexCache = HashMap<[u32; 3], [Option<DVec3>; 2]>;
+
+/// The apexes of every face, for the next round's [`build`].
+pub(crate) fn apex_cache(faces: &[HullFace]) -> ApexCache {
+    faces.iter().map(|f| (f.vertices, [f.u(), f.v()])).collect()
+}
+
 pub(crate) fn build(
     mesh: &TriMesh,
     normals: &[DVec3],
     face_map: &[u32],
     opts: &HullOptions,
+    cache: &ApexCache,
 ) -> Result<(Vec<HullFace>, Vec<HullEdge>), HullError> {
     let topo = mesh.topology();
     let pos = mesh.positions();
@@ -218,126 +235,168 @@ pub(crate) fn build(
     }
 
     // Faces: classification and face tetrahedra (§3.1).
-    let mut faces = Vec::with_capacity(tris.len());
-    for (f, t) in tris.iter().enumerate() {
-        let corners = [p(t[0]), p(t[1]), p(t[2])];
-        let first = topo.face_corners(f).start;
-        let fe: [u32; 3] = std::array::from_fn(|c| topo.corner_edge(first + c as u32));
-        let convexity = classify_face(fe.map(|e| edges[e as usize].convexity));
-        let longest = longest_edge(corners);
-        let cross = (corners[1] - corners[0]).cross(corners[2] - corners[0]);
-        let area_ok = cross.length() > 1e-14 * longest * longest; // false for NaN too
-        if !area_ok {
-            return Err(HullError::DegenerateFace {
-                face: face_map[f],
-                vertices: *t,
-            });
-        }
-        let normal = cross.normalize();
-        let centroid = (corners[0] + corners[1] + corners[2]) / 3.0;
-        let mut face = HullFace {
-            vertices: *t,
-            source_face: face_map[f],
-            convexity,
-            edges: fe,
-            centroid,
-            normal,
-            parameters: None,
-            positive: None,
-            negative: None,
-        };
-        if convexity != Convexity::ZeroConvex {
-            let params = apex_parameters(corners, t.map(n), normal, opts.epsilon * longest)
-                .map_err(|l| HullError::NormalNotOnPositiveSide {
+    // Faces are independent of each other: built in parallel, the first error (in face
+    // order) reported, so the result does not depend on the thread count.
+    let built: Vec<Result<HullFace, HullError>> = tris
+        .par_iter()
+        .enumerate()
+        .map(|(f, t)| -> Result<HullFace, HullError> {
+            let corners = [p(t[0]), p(t[1]), p(t[2])];
+            let first = topo.face_corners(f).start;
+            let fe: [u32; 3] = std::array::from_fn(|c| topo.corner_edge(first + c as u32));
+            let convexity = classify_face(fe.map(|e| edges[e as usize].convexity));
+            let longest = longest_edge(corners);
+            let cross = (corners[1] - corners[0]).cross(corners[2] - corners[0]);
+            let area_ok = cross.length() > 1e-14 * longest * longest; // false for NaN too
+            if !area_ok {
+                return Err(HullError::DegenerateFace {
                     face: face_map[f],
-                    vertex: t[l],
-                    cosine: normal.dot(n(t[l]).normalize()),
-                })?;
-            let floor = opts.min_apex_height * longest;
-            let make = |side: Side, tt: f64| -> Result<FaceTetrahedron, HullError> {
-                let apex = centroid + tt * normal;
-                let tetrahedron = Tetrahedron::new([corners[0], corners[1], corners[2], apex])
-                    .map_err(|source| HullError::DegenerateTetrahedron {
-                        what: if side == Side::Positive {
-                            "positive face"
-                        } else {
-                            "negative face"
-                        },
-                        element: face_name(face_map, f),
-                        source,
-                    })?;
-                Ok(FaceTetrahedron {
-                    side,
-                    t: tt,
-                    apex,
-                    tetrahedron,
-                })
+                    vertices: *t,
+                });
+            }
+            let normal = cross.normalize();
+            let centroid = (corners[0] + corners[1] + corners[2]) / 3.0;
+            let mut face = HullFace {
+                vertices: *t,
+                source_face: face_map[f],
+                convexity,
+                edges: fe,
+                centroid,
+                normal,
+                parameters: None,
+                positive: None,
+                negative: None,
             };
-            if convexity.has_positive_side() {
-                face.positive = Some(make(Side::Positive, params.t_max.max(floor))?);
+            if convexity != Convexity::ZeroConvex {
+                let params = apex_parameters(corners, t.map(n), normal, opts.epsilon * longest)
+                    .map_err(|l| HullError::NormalNotOnPositiveSide {
+                        face: face_map[f],
+                        vertex: t[l],
+                        cosine: normal.dot(n(t[l]).normalize()),
+                    })?;
+                let floor = opts.min_apex_height * longest;
+                // A nearest apex may lean far over a neighbour; standing at least ε off the face
+                // keeps its tetrahedron from going flat (see `ApexPlacement::Nearest`).
+                let lean_floor = opts.epsilon.max(opts.min_apex_height) * longest;
+                let margin = opts.epsilon * longest;
+                // The paper's t_max / t_min, pushed off the face to the floor.
+                let paper_t = |side: Side| match side {
+                    Side::Positive => params.t_max.max(floor),
+                    Side::Negative => params.t_min.min(-floor),
+                };
+                let nearest = opts.apex == ApexPlacement::Nearest;
+                // A nonconvex face's two apexes are placed together (on one line through c).
+                let pair = (nearest && convexity == Convexity::Nonconvex && !cache.contains_key(t))
+                    .then(|| nearest_apex_pair(corners, t.map(n), normal, margin, lean_floor))
+                    .flatten();
+                let cached = cache.get(t);
+                let placed = |side: Side| -> Option<DVec3> {
+                    if !nearest {
+                        return None;
+                    }
+                    if let Some(c) = cached {
+                        return c[(side == Side::Negative) as usize];
+                    }
+                    if convexity == Convexity::Nonconvex {
+                        return pair.map(|(u, v)| if side == Side::Positive { u } else { v });
+                    }
+                    nearest_apex(corners, t.map(n), normal, margin, lean_floor, side)
+                };
+                let make = |side: Side| -> Result<FaceTetrahedron, HullError> {
+                    // Where the quadratic program has no solution (only rounding on degenerate
+                    // data can do that), the paper's apex, which always satisfies it.
+                    let (apex, tt) = match placed(side) {
+                        Some(apex) => (apex, (apex - centroid).dot(normal)),
+                        None => (centroid + paper_t(side) * normal, paper_t(side)),
+                    };
+                    let tetrahedron = Tetrahedron::new([corners[0], corners[1], corners[2], apex])
+                        .map_err(|source| HullError::DegenerateTetrahedron {
+                            what: if side == Side::Positive {
+                                "positive face"
+                            } else {
+                                "negative face"
+                            },
+                            element: face_name(face_map, f),
+                            source,
+                        })?;
+                    Ok(FaceTetrahedron {
+                        side,
+                        t: tt,
+                        apex,
+                        tetrahedron,
+                    })
+                };
+                if convexity.has_positive_side() {
+                    face.positive = Some(make(Side::Positive)?);
+                }
+                if convexity.has_negative_side() {
+                    face.negative = Some(make(Side::Negative)?);
+                }
+                face.parameters = Some(params);
             }
-            if convexity.has_negative_side() {
-                face.negative = Some(make(Side::Negative, params.t_min.min(-floor))?);
-            }
-            face.parameters = Some(params);
-        }
-        faces.push(face);
-    }
+            Ok(face)
+        })
+        .collect();
+    let faces: Vec<HullFace> = built.into_iter().collect::<Result<_, _>>()?;
 
     // Edge tetrahedra (§3.2).
-    for edge in edges.iter_mut() {
-        let (Some(face_l), Some(l)) = (edge.face_l, edge.l) else {
-            continue; // boundary: no edge tetrahedra
-        };
-        let [i, j] = edge.vertices;
-        for side in [Side::Positive, Side::Negative] {
-            let wanted = match side {
-                Side::Positive => edge.convexity.has_positive_side(),
-                Side::Negative => edge.convexity.has_negative_side(),
+    let done: Vec<Result<(), HullError>> = edges
+        .par_iter_mut()
+        .map(|edge| -> Result<(), HullError> {
+            let (Some(face_l), Some(l)) = (edge.face_l, edge.l) else {
+                return Ok(()); // boundary: no edge tetrahedra
             };
-            if !wanted {
-                continue;
+            let [i, j] = edge.vertices;
+            for side in [Side::Positive, Side::Negative] {
+                let wanted = match side {
+                    Side::Positive => edge.convexity.has_positive_side(),
+                    Side::Negative => edge.convexity.has_negative_side(),
+                };
+                if !wanted {
+                    continue;
+                }
+                let apex = |g: u32| -> Result<DVec3, HullError> {
+                    faces[g as usize].tetrahedron(side).map(|t| t.apex).ok_or(
+                        HullError::MissingApex {
+                            edge: [i, j],
+                            face: face_map[g as usize],
+                            side: side.name(),
+                        },
+                    )
+                };
+                let wk = apex(edge.face_k)?;
+                let wl = apex(face_l)?;
+                let what = if side == Side::Positive {
+                    "positive edge"
+                } else {
+                    "negative edge"
+                };
+                let degenerate = |source| HullError::DegenerateTetrahedron {
+                    what,
+                    element: format!("edge ({i}, {j})"),
+                    source,
+                };
+                let tetrahedron = Tetrahedron::new([wl, p(i), p(j), wk]).map_err(degenerate)?;
+                let mu = Tetrahedron::new([p(edge.k), p(i), p(j), wk])
+                    .map_err(degenerate)?
+                    .barycentric(wl);
+                let nu = Tetrahedron::new([wl, p(i), p(j), p(l)])
+                    .map_err(degenerate)?
+                    .barycentric(wk);
+                let et = EdgeTetrahedron {
+                    side,
+                    tetrahedron,
+                    mu,
+                    nu,
+                };
+                match side {
+                    Side::Positive => edge.positive = Some(et),
+                    Side::Negative => edge.negative = Some(et),
+                }
             }
-            let apex = |g: u32| -> Result<DVec3, HullError> {
-                faces[g as usize]
-                    .tetrahedron(side)
-                    .map(|t| t.apex)
-                    .ok_or(HullError::MissingApex {
-                        edge: [i, j],
-                        face: face_map[g as usize],
-                        side: side.name(),
-                    })
-            };
-            let wk = apex(edge.face_k)?;
-            let wl = apex(face_l)?;
-            let what = if side == Side::Positive {
-                "positive edge"
-            } else {
-                "negative edge"
-            };
-            let degenerate = |source| HullError::DegenerateTetrahedron {
-                what,
-                element: format!("edge ({i}, {j})"),
-                source,
-            };
-            let tetrahedron = Tetrahedron::new([wl, p(i), p(j), wk]).map_err(degenerate)?;
-            let mu = Tetrahedron::new([p(edge.k), p(i), p(j), wk])
-                .map_err(degenerate)?
-                .barycentric(wl);
-            let nu = Tetrahedron::new([wl, p(i), p(j), p(l)])
-                .map_err(degenerate)?
-                .barycentric(wk);
-            let et = EdgeTetrahedron {
-                side,
-                tetrahedron,
-                mu,
-                nu,
-            };
-            match side {
-                Side::Positive => edge.positive = Some(et),
-                Side::Negative => edge.negative = Some(et),
-            }
-        }
-    }
+            Ok(())
+        })
+        .collect();
+    done.into_iter().collect::<Result<(), _>>()?;
     Ok((faces, edges))
 }

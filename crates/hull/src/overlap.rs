@@ -14,7 +14,8 @@ const FACES: [(usize, usize, usize); 4] = [(1, 2, 3), (0, 2, 3), (0, 1, 3), (0, 
 /// each (the face normals of the Minkowski difference; parallel edge pairs give zero vectors
 /// and are skipped, as they are not needed). For every axis `w` the overlap of the projected
 /// intervals is divided by `|w| · D`, `D` the diagonal of the two tetrahedra's common bounding
-/// box; the result is the minimum over the axes. It is `≤ 0` (up to rounding) when the
+/// box; the result is the minimum over the axes (or the first value `≤ 0` found, which
+/// decides that the interiors are disjoint). It is `≤ 0` (up to rounding) when the
 /// interiors are disjoint (touching along a shared face, edge or vertex gives 0) and positive
 /// when they overlap: then no axis separates them, and the value bounds from below how far one
 /// must move one tetrahedron, in units of `D`, to separate them along the tried axes.
@@ -23,6 +24,17 @@ const FACES: [(usize, usize, usize); 4] = [(1, 2, 3), (0, 2, 3), (0, 1, 3), (0, 
 /// with their distance from the origin: a shared vertex projects to bit-identical values and
 /// a shared face's vertices to values within a few ulps of `D`.
 pub fn overlap_depth(a: &[DVec3; 4], b: &[DVec3; 4]) -> f64 {
+    depth_until(a, b, 0.0)
+}
+
+/// [`overlap_depth`], except that it stops at the first axis whose relative overlap is at
+/// most `stop` and returns that value: `depth_until(a, b, tol) > tol` exactly when
+/// `overlap_depth(a, b) > tol` (both are the minimum over the same axes when that is above
+/// `tol`). Adjacent tetrahedra — most candidate pairs of a hull — touch along a shared face,
+/// edge or vertex, so some axis shows an overlap of 0 (up to rounding), not a negative one;
+/// stopping at the tolerance instead of below 0 lets them exit at that axis instead of
+/// trying all 44.
+pub(crate) fn depth_until(a: &[DVec3; 4], b: &[DVec3; 4], stop: f64) -> f64 {
     let o = a[0];
     let la: [DVec3; 4] = std::array::from_fn(|k| a[k] - o);
     let lb: [DVec3; 4] = std::array::from_fn(|k| b[k] - o);
@@ -55,7 +67,7 @@ pub fn overlap_depth(a: &[DVec3; 4], b: &[DVec3; 4]) -> f64 {
         }
         let ov = (amax.min(bmax) - amin.max(bmin)) / (len * d);
         depth = depth.min(ov);
-        depth < 0.0
+        depth <= stop
     };
     for t in [&la, &lb] {
         for &(i, j, k) in &FACES {
@@ -89,7 +101,7 @@ pub fn overlap_depth(a: &[DVec3; 4], b: &[DVec3; 4]) -> f64 {
 /// assert!(tetrahedra_overlap(&a, &c, 1e-9));
 /// ```
 pub fn tetrahedra_overlap(a: &[DVec3; 4], b: &[DVec3; 4], tolerance: f64) -> bool {
-    overlap_depth(a, b) > tolerance
+    depth_until(a, b, tolerance) > tolerance
 }
 
 #[cfg(test)]

@@ -2,13 +2,30 @@
 
 use crate::bvh::Bvh;
 use crate::classify::Side;
-use crate::hull::{HullEdge, HullFace, build as build_faces_edges, check_input, longest_edge};
-use crate::overlap::overlap_depth;
+use crate::hull::{
+    ApexCache, HullEdge, HullFace, apex_cache, build as build_faces_edges, check_input,
+    longest_edge,
+};
+use crate::overlap::depth_until;
 use crate::refine::RefineState;
 use crate::{HullError, HullOptions};
 use algesurf_mesh::TriMesh;
 use glam::DVec3;
 use rayon::prelude::*;
+use std::collections::HashSet;
+
+/// A tetrahedron's identity across refinement rounds: its side and its vertices' bits.
+type TetKey = (bool, [u64; 12]);
+
+fn tet_key(t: &HullTetrahedron) -> TetKey {
+    let mut bits = [0u64; 12];
+    for (k, v) in t.vertices.iter().enumerate() {
+        bits[3 * k] = v.x.to_bits();
+        bits[3 * k + 1] = v.y.to_bits();
+        bits[3 * k + 2] = v.z.to_bits();
+    }
+    (t.side == Side::Positive, bits)
+}
 
 /// The mesh element a hull tetrahedron belongs to (ids of the possibly refined mesh).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -132,8 +149,17 @@ impl SimplicialHull {
         let mut round = 0;
         // The error to report if a refinement round makes the hull invalid.
         let mut pending: Option<HullError> = None;
+        // The previous round's tetrahedra (see `intersections_involving`).
+        let mut checked: HashSet<TetKey> = HashSet::new();
+        let mut apexes = ApexCache::new();
         loop {
-            let built = build_faces_edges(&state.mesh, &state.normals, &state.face_map, options);
+            let built = build_faces_edges(
+                &state.mesh,
+                &state.normals,
+                &state.face_map,
+                options,
+                &apexes,
+            );
             let (faces, edges) = match (built, pending.take()) {
                 (Ok(x), _) => x,
                 (Err(e), None) => return Err(e),
@@ -171,7 +197,15 @@ impl SimplicialHull {
             // others are reported by `distant_intersections()`.
             let hits: Vec<Intersection> = if options.check_intersections {
                 let component = hull.face_components();
-                hull.intersections()
+                let tets = hull.tetrahedra();
+                let keys: HashSet<TetKey> = tets.iter().map(tet_key).collect();
+                let fresh: Option<Vec<bool>> = (round > 0).then(|| {
+                    tets.iter()
+                        .map(|t| !checked.contains(&tet_key(t)))
+                        .collect()
+                });
+                checked = keys;
+                hull.intersections_involving(&tets, fresh.as_deref())
                     .into_iter()
                     .filter(|h| hull.same_component(&component, h.first.element, h.second.element))
                     .collect()
@@ -186,6 +220,7 @@ impl SimplicialHull {
                     ..hull
                 });
             }
+            apexes = apex_cache(&hull.faces);
             let hit = &hits[0];
             let [a, b] = hull.edges[hull.conflict_edge(hit) as usize].vertices;
             let unresolved = |reason: String| HullError::UnresolvedIntersection {
@@ -395,7 +430,23 @@ impl SimplicialHull {
     /// bounding-volume hierarchy over the tetrahedra's boxes; each candidate is decided by
     /// [`crate::overlap_depth`]. Empty for a valid hull.
     pub fn intersections(&self) -> Vec<Intersection> {
-        let tets = self.tetrahedra();
+        self.intersections_involving(&self.tetrahedra(), None)
+    }
+
+    /// The overlapping pairs among `tets` (this hull's [`SimplicialHull::tetrahedra`]) that
+    /// involve at least one tetrahedron marked in `fresh` (all pairs for `None`), ordered by
+    /// the pair's indices in `tets`.
+    ///
+    /// Refinement rounds check only the new tetrahedra: a tetrahedron whose four vertices are
+    /// bit-identical to one of the previous round's is the same tetrahedron (apexes depend
+    /// only on their face's corners and normals, which a split of another face leaves
+    /// alone), and every pair of two such was checked then and did not overlap — had it
+    /// overlapped, its faces would have been bisected, changing both tetrahedra.
+    fn intersections_involving(
+        &self,
+        tets: &[HullTetrahedron],
+        fresh: Option<&[bool]>,
+    ) -> Vec<Intersection> {
         let boxes = tets
             .iter()
             .map(|t| {
@@ -408,24 +459,39 @@ impl SimplicialHull {
             })
             .collect();
         let bvh = Bvh::new(boxes);
-        // One BVH query per tetrahedron, in parallel; `collect` keeps the order of `i`, so
-        // the list (and the refinement driven by it) does not depend on the thread count.
-        (0..bvh.len())
+        let is_fresh = |i: usize| fresh.is_none_or(|f| f[i]);
+        // One BVH query per fresh tetrahedron, in parallel. A pair of two fresh ones is taken
+        // by the query of its smaller index, a fresh–old pair by the fresh one's query.
+        let mut pairs: Vec<(u32, u32, f64)> = (0..bvh.len())
             .into_par_iter()
+            .filter(|&i| is_fresh(i))
             .flat_map_iter(|i| {
                 let mut found = Vec::new();
-                bvh.partners(i, |j| {
-                    let (a, b) = (&tets[i], &tets[j as usize]);
-                    let depth = overlap_depth(&a.vertices, &b.vertices);
-                    if depth > self.options.overlap_tolerance {
-                        found.push(Intersection {
-                            first: *a,
-                            second: *b,
-                            depth,
-                        });
-                    }
-                });
+                bvh.overlapping(
+                    i,
+                    |j| j > i || !is_fresh(j),
+                    |j| {
+                        let (a, b) = (&tets[i], &tets[j as usize]);
+                        let tol = self.options.overlap_tolerance;
+                        let depth = depth_until(&a.vertices, &b.vertices, tol);
+                        if depth > tol {
+                            let (lo, hi) = (i.min(j as usize) as u32, i.max(j as usize) as u32);
+                            found.push((lo, hi, depth));
+                        }
+                    },
+                );
                 found
+            })
+            .collect();
+        // Sorting makes the list (and the refinement driven by it) independent of the thread
+        // count and of which tetrahedra were fresh.
+        pairs.sort_unstable_by_key(|&(a, b, _)| (a, b));
+        pairs
+            .into_iter()
+            .map(|(a, b, depth)| Intersection {
+                first: tets[a as usize],
+                second: tets[b as usize],
+                depth,
             })
             .collect()
     }

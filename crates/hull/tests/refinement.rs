@@ -3,12 +3,21 @@
 
 mod common;
 
-use algesurf_hull::{Convexity, Element, HullError, HullOptions, SimplicialHull};
+use algesurf_hull::{ApexPlacement, Convexity, Element, HullError, HullOptions, SimplicialHull};
 use common::{
     brute_force_overlaps, check_apex_properties, height_field, icosphere, min_relative_measure,
     wave,
 };
 use glam::{DVec2, DVec3};
+
+/// The paper's apexes (on the face normals): these tests are about detecting and refining
+/// their intersections, which the default nearest apexes mostly avoid (tests/apex_placement.rs).
+fn paper() -> HullOptions {
+    HullOptions {
+        apex: ApexPlacement::FaceNormal,
+        ..HullOptions::default()
+    }
+}
 
 fn xy_area(a: DVec3, b: DVec3, c: DVec3) -> f64 {
     0.5 * (b - a).truncate().perp_dot((c - a).truncate())
@@ -31,7 +40,7 @@ fn coarse_wave_is_refined_until_disjoint() {
     let detect = HullOptions {
         max_refinement_rounds: 0,
         check_intersections: false,
-        ..Default::default()
+        ..paper()
     };
     let raw = SimplicialHull::new(&p, &t, &n, &detect).unwrap();
     let hits = raw.intersections();
@@ -59,7 +68,7 @@ fn coarse_wave_is_refined_until_disjoint() {
         &n,
         &HullOptions {
             max_refinement_rounds: 0,
-            ..Default::default()
+            ..paper()
         },
     )
     .unwrap_err();
@@ -68,7 +77,7 @@ fn coarse_wave_is_refined_until_disjoint() {
         "{err}"
     );
 
-    let hull = SimplicialHull::new(&p, &t, &n, &HullOptions::default()).unwrap();
+    let hull = SimplicialHull::new(&p, &t, &n, &paper()).unwrap();
     assert!(!hull.refinements().is_empty());
     assert!(hull.intersections().is_empty());
     assert_eq!(brute_force_overlaps(&hull, 1e-9), 0);
@@ -136,7 +145,7 @@ fn valley_with_tilted_normals() {
         let (p, n) = valley(s);
         let detect = HullOptions {
             check_intersections: false,
-            ..Default::default()
+            ..paper()
         };
         let raw = SimplicialHull::new(&p, &t, &n, &detect).unwrap();
         assert!(
@@ -152,14 +161,14 @@ fn valley_with_tilted_normals() {
         );
     }
     let (p, n) = valley(1.0);
-    let hull = SimplicialHull::new(&p, &t, &n, &HullOptions::default()).unwrap();
+    let hull = SimplicialHull::new(&p, &t, &n, &paper()).unwrap();
     assert!(hull.intersections().is_empty());
     assert_eq!(brute_force_overlaps(&hull, 1e-9), 0);
     check_apex_properties(&hull);
     // With a round limit too small for it, the same case reports the edge.
     let two = HullOptions {
         max_refinement_rounds: 2,
-        ..Default::default()
+        ..paper()
     };
     match SimplicialHull::new(&p, &t, &n, &two) {
         Err(HullError::UnresolvedIntersection {
@@ -171,11 +180,18 @@ fn valley_with_tilted_normals() {
     // faces allow, so those splits take points nearer the edges' midpoints. Refinement never
     // changes a given normal, and it still separates the tetrahedra.
     let (p, n) = valley(1.5);
-    let hull = SimplicialHull::new(&p, &t, &n, &HullOptions::default()).unwrap();
+    let hull = SimplicialHull::new(&p, &t, &n, &paper()).unwrap();
     assert!(hull.intersections().is_empty());
     assert_eq!(brute_force_overlaps(&hull, 1e-9), 0);
     assert_eq!(&hull.normals()[..4], &n[..]);
     check_apex_properties(&hull);
+    // The default nearest apexes separate both valleys too.
+    for s in [1.0, 1.5] {
+        let (p, n) = valley(s);
+        let hull = SimplicialHull::new(&p, &t, &n, &HullOptions::default()).unwrap();
+        assert_eq!(brute_force_overlaps(&hull, 1e-9), 0);
+        check_apex_properties(&hull);
+    }
 }
 
 /// An open mesh (the upper half of an icosphere): boundary edges are classified, marked, and
@@ -188,7 +204,7 @@ fn open_mesh_boundary_edges_have_no_edge_tetrahedra() {
         .into_iter()
         .filter(|t| t.iter().map(|&v| p[v as usize].z).sum::<f64>() > 0.5)
         .collect();
-    let hull = SimplicialHull::new(&p, &cap, &p, &HullOptions::default()).unwrap();
+    let hull = SimplicialHull::new(&p, &cap, &p, &paper()).unwrap();
     let boundary: Vec<_> = hull.edges().iter().filter(|e| e.is_boundary()).collect();
     assert!(!boundary.is_empty());
     for e in &boundary {
@@ -211,7 +227,7 @@ fn bad_input_is_reported() {
     let (p, f) = icosphere(0);
     let mut n = p.clone();
     n[3] = -n[3];
-    match SimplicialHull::new(&p, &f, &n, &HullOptions::default()) {
+    match SimplicialHull::new(&p, &f, &n, &paper()) {
         Err(HullError::NormalNotOnPositiveSide {
             vertex: 3,
             face,
@@ -224,17 +240,17 @@ fn bad_input_is_reported() {
     let mut g = f.clone();
     g[0] = [g[0][0], g[0][2], g[0][1]];
     assert!(matches!(
-        SimplicialHull::new(&p, &g, &p, &HullOptions::default()),
+        SimplicialHull::new(&p, &g, &p, &paper()),
         Err(HullError::InconsistentOrientation { .. })
     ));
     assert!(matches!(
-        SimplicialHull::new(&p, &f, &p[1..], &HullOptions::default()),
+        SimplicialHull::new(&p, &f, &p[1..], &paper()),
         Err(HullError::NormalCount { .. })
     ));
     let mut z = p.clone();
     z[0] = DVec3::ZERO;
     assert!(matches!(
-        SimplicialHull::new(&p, &f, &z, &HullOptions::default()),
+        SimplicialHull::new(&p, &f, &z, &paper()),
         Err(HullError::BadVertexData {
             vertex: 0,
             what: "normal"
@@ -242,7 +258,7 @@ fn bad_input_is_reported() {
     ));
     let bad = HullOptions {
         epsilon: 0.0,
-        ..Default::default()
+        ..paper()
     };
     assert!(matches!(
         SimplicialHull::new(&p, &f, &p, &bad),
@@ -268,7 +284,7 @@ fn interpenetrating_components_are_reported_not_refined() {
         .chain(s.positions())
         .map(|p| p.normalize())
         .collect();
-    let hull = SimplicialHull::new(&pos, &tris, &normals, &HullOptions::default()).unwrap();
+    let hull = SimplicialHull::new(&pos, &tris, &normals, &paper()).unwrap();
     assert!(hull.refinements().is_empty());
     let distant = hull.distant_intersections();
     assert!(!distant.is_empty());

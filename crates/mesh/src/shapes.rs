@@ -123,6 +123,40 @@ pub fn torus(n: u32, m: u32, major: f64, minor: f64) -> TriMesh {
     build(pos, tris)
 }
 
+/// A bicone: two cones of height `h` over the unit disk in the xy-plane, glued along their
+/// rim. Tips `(0, 0, ±h)`, one ring of `n` vertices at radius ½ on each side (rotated by half
+/// a step), and the rim ring of `n` vertices at `z = 0`; outward oriented, `2 + 3n` vertices
+/// and `6n` faces (`n ≥ 3`). A small `h` makes a sharp rim: any normal there is nearly
+/// orthogonal to the faces on one side or the other (84° for the horizontal normal at
+/// `h = 0.1`), the configuration that makes §3.1's apexes tall.
+///
+/// ```
+/// let m = algesurf_mesh::shapes::bicone(16, 0.1);
+/// assert_eq!((m.vertex_count(), m.face_count()), (50, 96));
+/// ```
+pub fn bicone(n: u32, h: f64) -> TriMesh {
+    let n = n.max(3);
+    let mut pos = vec![DVec3::new(0.0, 0.0, h), DVec3::new(0.0, 0.0, -h)];
+    for (r, z, shift) in [(0.5, 0.5 * h, 0.5), (1.0, 0.0, 0.0), (0.5, -0.5 * h, 0.5)] {
+        for k in 0..n {
+            let a = 2.0 * PI * (k as f64 + shift) / n as f64;
+            pos.push(DVec3::new(r * a.cos(), r * a.sin(), z));
+        }
+    }
+    let (up, rim, lo) = (2, 2 + n, 2 + 2 * n);
+    let mut tris = Vec::with_capacity(6 * n as usize);
+    for k in 0..n {
+        let k1 = (k + 1) % n;
+        tris.push([0, up + k, up + k1]);
+        tris.push([up + k, rim + k, rim + k1]);
+        tris.push([up + k, rim + k1, up + k1]);
+        tris.push([1, lo + k1, lo + k]);
+        tris.push([lo + k, rim + k1, rim + k]);
+        tris.push([lo + k, lo + k1, rim + k1]);
+    }
+    build(pos, tris)
+}
+
 /// A regular triangulated grid of `nx × ny` squares in the xy-plane over `[0, nx] × [0, ny]`,
 /// each square split along its diagonal (all interior vertices have valence 6), normals +z.
 pub fn grid(nx: u32, ny: u32) -> TriMesh {

@@ -1,0 +1,319 @@
+//! The nearest apex ([`crate::ApexPlacement::Nearest`]): the point nearest the face's centroid that meets every condition §3.1's
+//! `t_max` / `t_min` exist for, without requiring it to lie on the face normal.
+//!
+//! §3.1 puts the apex on the line `c + t n_ijk` and takes the smallest `t` that lies beyond the
+//! three tangent planes (Step 2's coefficients `f_2001`, `f_0201`, `f_0021` positive) and makes
+//! the three Step 4 coefficients `f_1101`, `f_0111`, `f_1011` nonnegative. Where a vertex
+//! normal `n_l` makes an angle near 90° with the face normal — the rim of a thin sheet — that
+//! tangent plane is nearly orthogonal to the face, `t_l = (p_l − c)ᵀn_l / n_ijkᵀn_l` explodes,
+//! and the spike crosses its neighbours whatever the refinement (docs/ARCHITECTURE.md, "Hull
+//! refinement at sharp rims"). But every one of those conditions is an *affine* inequality in
+//! the apex `u`:
+//!
+//! * Step 2: `(u − p_l)ᵀn_l ≥ ε ℓ n_ijkᵀn_l` — the margin the paper's `t_l + ε` gives on the
+//!   normal line (`ℓ` the face's longest edge, `ε` = [`crate::HullOptions::epsilon`]);
+//! * Step 4: [`crate::mid_edge_coefficient`]`(u, p_l, p_m, n_l, n_m) ≥ 0`, affine because the
+//!   foot of `u` on the edge — hence `α(u, p_l, p_m) = 2 − 3s` — moves affinely with `u`;
+//! * a nondegenerate tetrahedron: `(u − c)ᵀn_ijk ≥ h ℓ`
+//!   ([`crate::HullOptions::min_apex_height`]);
+//!
+//! (all reversed for the negative side). Their feasible set is a convex polyhedron containing
+//! the paper's apex, so its point nearest `c` — a 3-variable quadratic program — is never
+//! farther from the face than the paper's and keeps every sign the construction of §4.2 relies
+//! on: nothing downstream assumes the apex lies on the normal (the A-patch rays, the
+//! coefficients of Steps 2–4 and the C1 conditions (4.15)–(4.17) are written for a general
+//! tetrahedron). At a rim it is the point just beyond the rim and just above the face, so the
+//! tetrahedra of the two sides of a thin sheet stay on their own sides.
+
+use crate::classify::Side;
+use crate::classify::mid_edge_coefficient;
+use glam::DVec3;
+
+/// One affine constraint `aᵀx ≥ b` on the apex offset `x = u − c`.
+#[derive(Clone, Copy, Debug)]
+struct HalfSpace {
+    a: DVec3,
+    b: f64,
+}
+
+/// The affine constraints of the apex on `side` of the face with corners `p`, vertex normals
+/// (gradients) `n` and unit face normal `face_normal`, in the offset `x = u − c`.
+fn half_spaces(
+    p: [DVec3; 3],
+    n: [DVec3; 3],
+    face_normal: DVec3,
+    margin: f64,
+    height: f64,
+    side: Side,
+) -> [HalfSpace; 7] {
+    let c = (p[0] + p[1] + p[2]) / 3.0;
+    let s = match side {
+        Side::Positive => 1.0,
+        Side::Negative => -1.0,
+    };
+    let mut out = [HalfSpace {
+        a: DVec3::ZERO,
+        b: 0.0,
+    }; 7];
+    for l in 0..3 {
+        // s (c + x − p_l)ᵀn_l ≥ margin · n_ijkᵀn_l
+        out[l] = HalfSpace {
+            a: s * n[l],
+            b: margin * face_normal.dot(n[l]) - s * (c - p[l]).dot(n[l]),
+        };
+    }
+    // The Step 4 coefficient is affine in u; its gradient is read off exactly from three
+    // differences of size ℓ around c (affine, so the differences are the gradient up to
+    // rounding of order ε_mach · |coefficient| / ℓ).
+    let ell = (0..3)
+        .map(|k| p[k].distance(p[(k + 1) % 3]))
+        .fold(0.0, f64::max);
+    for (e, (l, m)) in [(0, 1), (1, 2), (0, 2)].into_iter().enumerate() {
+        let f = |x: DVec3| mid_edge_coefficient(c + x, p[l], p[m], n[l], n[m]);
+        let f0 = f(DVec3::ZERO);
+        let g = DVec3::new(
+            f(DVec3::X * ell) - f0,
+            f(DVec3::Y * ell) - f0,
+            f(DVec3::Z * ell) - f0,
+        ) / ell;
+        out[3 + e] = HalfSpace {
+            a: s * g,
+            b: -s * f0,
+        };
+    }
+    out[6] = HalfSpace {
+        a: s * face_normal,
+        b: height,
+    };
+    out
+}
+
+/// The point nearest the centroid of the face `p` (corners in mesh order) that satisfies the
+/// apex conditions of §3.1 on `side` (see the module docs): Step 2 margins
+/// `margin · n_ijkᵀn_l`, Step 4 coefficients of the right sign, and at least `height` off the
+/// face. `None` only when no candidate passes the feasibility check (rounding on degenerate
+/// input); the caller then keeps the paper's apex.
+///
+/// Solved exactly by enumerating active sets: the minimiser of `|x|²` over a polyhedron is the
+/// projection of 0 onto the affine hull of the constraints active there, at most three of them
+/// in 3D; so the nearest feasible point among the projections onto every set of at most three
+/// constraint planes (64 small solves) is the optimum.
+pub(crate) fn nearest_apex(
+    p: [DVec3; 3],
+    n: [DVec3; 3],
+    face_normal: DVec3,
+    margin: f64,
+    height: f64,
+    side: Side,
+) -> Option<DVec3> {
+    let c = (p[0] + p[1] + p[2]) / 3.0;
+    let hs = half_spaces(p, n, face_normal, margin, height, side);
+    // Feasibility slack: rounding of aᵀx − b, relative to the terms' size.
+    let norm: [f64; 7] = std::array::from_fn(|i| hs[i].a.length());
+    let feasible = |x: DVec3| {
+        let len = x.length();
+        hs.iter().zip(&norm).all(|(h, an)| {
+            let scale = an * len + h.b.abs();
+            h.a.dot(x) - h.b >= -1e-12 * scale
+        })
+    };
+    // d_i: the distance from 0 (the centroid) to half-space i. Every feasible point is at
+    // least max_i d_i away, and the projection onto a set S of planes at least max_{i∈S} d_i:
+    // a set whose bound is no better than the best feasible point so far is skipped. The
+    // common case — one binding condition — ends at the first candidate.
+    let dist: [f64; 7] = std::array::from_fn(|i| hs[i].b.max(0.0) / norm[i]);
+    let mut best: Option<DVec3> = None;
+    let mut best_len = f64::INFINITY;
+    let mut consider = |set: &[usize]| {
+        let bound = set.iter().map(|&i| dist[i]).fold(0.0, f64::max);
+        if bound >= best_len {
+            return;
+        }
+        let mut planes = [hs[0]; 3];
+        for (slot, &i) in planes.iter_mut().zip(set) {
+            *slot = hs[i];
+        }
+        let x = if set.is_empty() {
+            DVec3::ZERO
+        } else {
+            project(&planes[..set.len()])
+        };
+        if x.is_finite() && feasible(x) && x.length() < best_len {
+            best = Some(x);
+            best_len = x.length();
+        }
+    };
+    let mut order: [usize; 7] = std::array::from_fn(|i| i);
+    order.sort_by(|&i, &j| dist[j].total_cmp(&dist[i]));
+    consider(&[]);
+    consider(&[order[0]]);
+    for i in 0..7 {
+        consider(&[i]);
+        for j in i + 1..7 {
+            consider(&[i, j]);
+            for k in j + 1..7 {
+                consider(&[i, j, k]);
+            }
+        }
+    }
+    best.map(|x| c + x)
+}
+
+/// The apexes `(u, v)` of a nonconvex face, which has both: each at the smallest distance
+/// from the centroid on one common line through it.
+///
+/// The two sides of a nonconvex face are split into three cubics each around the centroid
+/// (§4.1), and F must be C1 across the face between them; with `u`, `c`, `v` on one line the
+/// internal facets `[p_l, c, u]` and `[p_l, c, v]` are coplanar, the configuration the paper's
+/// `u = c + t_max n`, `v = c + t_min n` has, for which the C1 conditions around the edges
+/// `[p_l, c]` are consistent (with four different planes around an edge they are not in
+/// general). Candidate directions: towards [`nearest_apex`] of either side, and the face
+/// normal (the paper's, always feasible); along each the least distances that satisfy each
+/// side's conditions, and the direction whose farther apex is nearest wins.
+pub(crate) fn nearest_apex_pair(
+    p: [DVec3; 3],
+    n: [DVec3; 3],
+    face_normal: DVec3,
+    margin: f64,
+    height: f64,
+) -> Option<(DVec3, DVec3)> {
+    let c = (p[0] + p[1] + p[2]) / 3.0;
+    let pos = half_spaces(p, n, face_normal, margin, height, Side::Positive);
+    let neg = half_spaces(p, n, face_normal, margin, height, Side::Negative);
+    let mut dirs = vec![face_normal];
+    for (side, hs) in [(Side::Positive, 1.0), (Side::Negative, -1.0)] {
+        if let Some(w) = nearest_apex(p, n, face_normal, margin, height, side) {
+            let d = hs * (w - c);
+            if d.dot(face_normal) > 0.0 {
+                dirs.push(d.normalize());
+            }
+        }
+    }
+    let mut best: Option<(f64, DVec3, DVec3)> = None;
+    for d in dirs {
+        let (Some(tu), Some(tv)) = (least_along(&pos, d), least_along(&neg, -d)) else {
+            continue;
+        };
+        let score = tu.max(tv);
+        if best.is_none_or(|b| score < b.0) {
+            best = Some((score, c + tu * d, c - tv * d));
+        }
+    }
+    best.map(|(_, u, v)| (u, v))
+}
+
+/// The least `t ≥ 0` with `x = t d` in every half-space (`None` if the ray misses their
+/// intersection).
+fn least_along(hs: &[HalfSpace; 7], d: DVec3) -> Option<f64> {
+    let (mut lo, mut hi) = (0.0f64, f64::INFINITY);
+    for h in hs {
+        let ad = h.a.dot(d);
+        // Constraint t·(aᵀd) ≥ b; |aᵀd| at rounding size counts as 0 (then 0 ≥ b must hold).
+        if ad.abs() <= 1e-12 * h.a.length() {
+            if h.b > 1e-12 * h.b.abs().max(h.a.length()) {
+                return None;
+            }
+        } else if ad > 0.0 {
+            lo = lo.max(h.b / ad);
+        } else {
+            hi = hi.min(h.b / ad);
+        }
+    }
+    (lo <= hi && lo.is_finite()).then_some(lo)
+}
+
+/// The least-norm `x` with `aᵀx = b` for the given planes (NaN where they are dependent).
+fn project(planes: &[HalfSpace]) -> DVec3 {
+    // x = Aᵀλ, (A Aᵀ) λ = b: a Gram system of size ≤ 3, solved by Cramer's rule with a
+    // relative singularity test (dependent planes give no unique projection; their
+    // projection is covered by a smaller set).
+    let k = planes.len();
+    let mut g = [[0.0; 3]; 3];
+    let mut rhs = [0.0; 3];
+    for r in 0..k {
+        rhs[r] = planes[r].b;
+        for s in 0..k {
+            g[r][s] = planes[r].a.dot(planes[s].a);
+        }
+    }
+    let lambda: [f64; 3] = match k {
+        1 => {
+            if g[0][0] <= 0.0 {
+                return DVec3::NAN;
+            }
+            [rhs[0] / g[0][0], 0.0, 0.0]
+        }
+        2 => {
+            let det = g[0][0] * g[1][1] - g[0][1] * g[1][0];
+            if det.abs() <= 1e-12 * g[0][0] * g[1][1] {
+                return DVec3::NAN;
+            }
+            [
+                (rhs[0] * g[1][1] - g[0][1] * rhs[1]) / det,
+                (g[0][0] * rhs[1] - rhs[0] * g[1][0]) / det,
+                0.0,
+            ]
+        }
+        _ => {
+            let m = glam::DMat3::from_cols_array_2d(&g).transpose();
+            let det = m.determinant();
+            if det.abs() <= 1e-12 * g[0][0] * g[1][1] * g[2][2] {
+                return DVec3::NAN;
+            }
+            let l = m.inverse() * DVec3::from_array(rhs);
+            l.to_array()
+        }
+    };
+    planes
+        .iter()
+        .zip(lambda)
+        .fold(DVec3::ZERO, |x, (h, l)| x + l * h.a)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::classify::apex_parameters;
+
+    /// A face along a rim: the corners on the rim edge carry normals 80° from the face
+    /// normal, tilted away from the face across that edge.
+    #[test]
+    fn nearest_apex_meets_every_condition_and_is_never_farther_than_the_papers() {
+        let p = [
+            DVec3::new(-1.0, 0.0, 0.0),
+            DVec3::new(1.0, 0.1, 0.0),
+            DVec3::new(0.2, 1.5, 0.1),
+        ];
+        let tilt = 80f64.to_radians();
+        let n = [
+            DVec3::new(-0.1, -tilt.sin(), tilt.cos()).normalize(),
+            DVec3::new(0.1, -tilt.sin(), tilt.cos()).normalize(),
+            DVec3::new(0.0, 0.2, 1.0).normalize(),
+        ];
+        let nf = (p[1] - p[0]).cross(p[2] - p[0]).normalize();
+        let margin = 0.1 * p[0].distance(p[2]).max(p[0].distance(p[1]));
+        let ap = apex_parameters(p, n, nf, margin).unwrap();
+        let c = (p[0] + p[1] + p[2]) / 3.0;
+        let u = nearest_apex(p, n, nf, margin, margin, Side::Positive).unwrap();
+        // The paper's apex climbs the normal until it clears the steep tangent planes (2.80
+        // here); the nearest one (1.60) is never farther.
+        assert!(
+            u.distance(c) <= ap.t_max,
+            "{} vs {}",
+            u.distance(c),
+            ap.t_max
+        );
+        for l in 0..3 {
+            assert!((u - p[l]).dot(n[l]) >= margin * nf.dot(n[l]) * (1.0 - 1e-9));
+        }
+        for (l, m) in [(0, 1), (1, 2), (0, 2)] {
+            assert!(mid_edge_coefficient(u, p[l], p[m], n[l], n[m]) >= -1e-12);
+        }
+        assert!((u - c).dot(nf) >= margin * (1.0 - 1e-9));
+        // The negative side, mirrored.
+        let v = nearest_apex(p, n, nf, margin, margin, Side::Negative).unwrap();
+        for l in 0..3 {
+            assert!((v - p[l]).dot(n[l]) <= -margin * nf.dot(n[l]) * (1.0 - 1e-9));
+        }
+    }
+}
