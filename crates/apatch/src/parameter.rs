@@ -25,8 +25,7 @@
 //! ([`FreeParameter::bound`], Lemma 2.3 over the face's rays), and (2) every affected edge
 //! tetrahedron still satisfies its own Step 6 bound `B_ijkl` with no further increment (the
 //! least common increment `b` of its two faces' apex values that Lemma 2.3 needs on its rays,
-//! evaluated like construction does on a grid of `bound_level` rays per direction, is
-//! negative). Construction *raised* both faces of an edge to meet (2); a later change of one
+//! bounded like construction does, over every ray, is negative). Construction *raised* both faces of an edge to meet (2); a later change of one
 //! face cannot silently raise its neighbours (that would change parameters the caller did not
 //! touch), so a value that breaks (2) is rejected and the surface is left exactly as it was. A
 //! one-sided change is not a common lift of both faces, so no monotonicity is claimed: the edge
@@ -142,7 +141,6 @@ impl ApatchSurface {
                 &self.edges,
                 e,
                 slot(side),
-                self.bound_level,
                 // Only `need ≥ 0` is rejected: anything below it may stop early.
                 -f64::MIN_POSITIVE,
             )?;

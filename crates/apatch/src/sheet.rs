@@ -14,11 +14,12 @@
 //! Over a face (convex faces and each sub-triangle of a split face) the maximum is certified:
 //! [`certified_face_bound`] bounds Lemma 2.3's `b_min^(1)` from above at every point of the face
 //! by BB subdivision (branch and bound on the layer polynomials' coefficient hulls), within
-//! [`CERTIFIED_GAP`] of the best sampled value. The edge bounds (the rays (4.9) over the
-//! edge's `(x, y)` square, [`lifted_b_min`]) are still taken on a grid of `bound_level`; every
-//! ray of the tessellation is checked for a simple root (`Tessellation::multiple_roots`,
-//! `missed_rays`), so a point between grid samples that needed more shows up as a measured
-//! failure, not silently. [`face_bound`] is the grid maximum, kept for comparison.
+//! [`CERTIFIED_GAP`] of the best sampled value. Over an edge tetrahedron the rays (4.9) form an
+//! `(x, y)` square and the lift of the apex values varies over it; the same branch and bound
+//! on the tensor-product coefficients ([`algesurf_bb::sheet::square`]) certifies that bound
+//! too (`surface::edge_need`). Every ray of the tessellation is still checked for a simple root
+//! (`Tessellation::multiple_roots`, `missed_rays`) as a measurement. [`face_bound`] is the grid
+//! maximum, kept for comparison.
 
 use algesurf_bb::BbPoly;
 use algesurf_bb::sheet::{certified_triangle_b_min_below, lemma_2_3_b_min};

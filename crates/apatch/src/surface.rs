@@ -1,8 +1,9 @@
 //! The whole C1 function F over the simplicial hull of a mesh, and its free parameters.
 
 use crate::geometry::apex_square;
-use crate::sheet::{certified_face_bound, lifted_b_min, lifted_b_min_above};
+use crate::sheet::{CERTIFIED_GAP, CERTIFIED_MAX_CELLS, certified_face_bound, lifted_b_min};
 use crate::{ApatchError, EdgeCubic, EdgeNeighbour, FaceCubic, Quadric, SplitFace, VertexData};
+use algesurf_bb::sheet::square::{Tensor3, certified_square_lift_bound, interpolate_tensor3};
 use algesurf_hull::{Convexity, HullOptions, Side, SimplicialHull};
 use algesurf_mesh::TriMesh;
 use glam::DVec3;
@@ -34,9 +35,6 @@ pub struct SurfaceOptions {
     /// strictly, and a margin of that size keeps the smallest root well separated from the
     /// double root that appears at `b = b_min`.
     pub sheet_margin: f64,
-    /// Grid level on each face (and edge) at which the single-sheet bounds are evaluated.
-    /// Default `8`.
-    pub bound_level: usize,
     /// Repair vertex normals the hull cannot use ([`algesurf_mesh::condition_normals`] with
     /// [`algesurf_mesh::DEFAULT_MIN_NORMAL_COSINE`]). Default `true`; the changed vertices are listed by
     /// [`ApatchSurface::adjusted_normals`].
@@ -79,7 +77,6 @@ impl Default for SurfaceOptions {
             free_parameters: FreeParameterRule::Quadric,
             hull: HullOptions::default(),
             sheet_margin: 1e-2,
-            bound_level: 8,
             condition_normals: true,
             gradient_magnitudes: GradientMagnitudes::AsGiven,
             tight_face_bounds: false,
@@ -154,8 +151,6 @@ pub struct ApatchSurface {
     pub(crate) parameters: Vec<FreeParameter>,
     adjusted_normals: Vec<u32>,
     timings: ConstructionTimings,
-    /// [`SurfaceOptions::bound_level`], for re-checking edge bounds after a parameter change.
-    pub(crate) bound_level: usize,
 }
 
 /// Wall-clock time of the stages of [`ApatchSurface::new`].
@@ -236,6 +231,9 @@ impl ApatchSurface {
         let built: Vec<(FaceFunction, Vec<FreeParameter>)> = (0..m.face_count())
             .into_par_iter()
             .map(|f| build_face(&hull, f, grads, pos, options))
+            .collect::<Vec<_>>()
+            .into_iter()
+            // The first error in face order, whatever the thread count.
             .collect::<Result<_, _>>()?;
         let mut faces = Vec::with_capacity(built.len());
         let mut parameters = Vec::new();
@@ -286,7 +284,6 @@ impl ApatchSurface {
             parameters,
             adjusted_normals,
             timings,
-            bound_level: options.bound_level,
         })
     }
 
@@ -499,6 +496,9 @@ fn build_edges(
             }
             Ok(out)
         })
+        .collect::<Vec<_>>()
+        .into_iter()
+        // The first error in edge order, whatever the thread count.
         .collect()
 }
 
@@ -516,7 +516,7 @@ fn rebuild_raised_edges(
     edges
         .par_iter_mut()
         .zip(hull.edges().par_iter())
-        .try_for_each(|(slots, e)| -> Result<(), ApatchError> {
+        .map(|(slots, e)| -> Result<(), ApatchError> {
             let Some(fl) = e.face_l else {
                 return Ok(());
             };
@@ -531,7 +531,10 @@ fn rebuild_raised_edges(
                 }
             }
             Ok(())
-        })?;
+        })
+        .collect::<Vec<_>>()
+        .into_iter()
+        .collect::<Result<(), _>>()?;
     Ok(edges)
 }
 
@@ -539,20 +542,25 @@ fn rebuild_raised_edges(
 type Needs = Vec<((usize, Side), f64)>;
 
 /// Step 6 for one edge tetrahedron (`slot` 0 positive, 1 negative) of the interior edge `e`:
-/// the largest, over a grid of `level` steps in each direction of the rays (4.9), of the least
-/// common increment `b` of the two faces' apex values for which [`lifted_b_min`] certifies the
-/// ray's smallest root simple. Negative when the current coefficients suffice everywhere on the
-/// grid; `−∞` when no grid ray starts where F has this side's sign.
+/// a guaranteed upper bound, over every ray (4.9) of the edge A-patch, of the least common
+/// increment `b` of the two faces' apex values for which Lemma 2.3 certifies the ray's
+/// smallest root simple ([`certified_square_lift_bound`], within [`CERTIFIED_GAP`] of the
+/// largest exact need sampled). Negative when the current coefficients suffice on every ray;
+/// `−∞` when no ray starts where F has this side's sign.
 ///
-/// Only values above `floor` are exact: a result `≤ floor` says the need is at most `floor`
-/// (the callers compare with a threshold, `−margin` or 0, and pass it or just below it).
+/// The search stops once the bound is certified `≤ floor` (the callers compare with a
+/// threshold, `−margin` or 0, and pass it or just below it), so only results above `floor`
+/// are within the gap of the true maximum.
+///
+/// # Errors
+/// [`ApatchError::UnliftableEdgeRay`] where raising the apex values cannot make some ray
+/// single-sheeted (the lift is not `≥ 0` there).
 pub(crate) fn edge_need(
     hull: &SimplicialHull,
     faces: &[FaceFunction],
     edges: &[[Option<EdgeCubic>; 2]],
     e: usize,
     slot: usize,
-    level: usize,
     floor: f64,
 ) -> Result<f64, ApatchError> {
     let pos = hull.mesh().positions();
@@ -582,44 +590,63 @@ pub(crate) fn edge_need(
         },
     )?;
     let two_sided = edges[e][0].is_some() && edges[e][1].is_some();
-    let level = level.max(2);
-    let mut need = f64::NEG_INFINITY;
-    for i in 1..level {
-        for j in 0..=level {
-            let (x, y) = (i as f64 / level as f64, j as f64 / level as f64);
-            let c = cubic.shooting_polynomial(x, y);
-            // On a two-sided edge each side serves the rays where F(q) has its sign.
-            if two_sided && sign * c[0] > 0.0 {
-                continue;
-            }
-            let base = c.map(|v| sign * v);
-            // A ray needing at most the largest need so far (or the floor) cannot change
-            // the maximum above the floor: let it stop at the first t that shows it.
-            let ray_floor = need.max(floor);
-            let lift_xy = lift.shooting_polynomial(x, y);
-            match lifted_b_min_above(base, lift_xy, ray_floor) {
-                Some(b) => need = need.max(b),
-                // `None` with `b_0 < 0`: the lift has a negative layer 2 or 3 on this ray, so
-                // raising the apex values is no remedy. The ray is fine only if it already
-                // satisfies Lemma 2.3 (some t with layers 2 and 3 of [0, t] positive: the
-                // need for a pure positive lift is ≤ 0).
-                None if base[0] < 0.0 => {
-                    let own = lifted_b_min(base, [0.0, 0.0, 1.0, 1.0]);
-                    if !own.is_some_and(|b| b <= 0.0) {
-                        return Err(ApatchError::UnliftableEdgeRay {
-                            vertices: he.vertices,
-                            faces: [he.face_k, fl].map(|f| hull.faces()[f as usize].source_face),
-                            side: side.name(),
-                            x,
-                            y,
-                        });
-                    }
-                }
-                None => {}
-            }
+    // The exact need of one ray: −∞ where it needs nothing (it starts on this side's far
+    // side, or on a two-sided edge the other side serves it), +∞ where raising the apex values
+    // cannot help (the lift has a negative layer 2 or 3 there and the ray does not already
+    // satisfy Lemma 2.3 on its own).
+    let ray_need = |x: f64, y: f64| -> f64 {
+        let c = cubic.shooting_polynomial(x, y);
+        if two_sided && sign * c[0] > 0.0 {
+            return f64::NEG_INFINITY;
         }
+        let base = c.map(|v| sign * v);
+        match lifted_b_min(base, lift.shooting_polynomial(x, y)) {
+            Some(b) => b,
+            None if base[0] < 0.0 => {
+                let own = lifted_b_min(base, [0.0, 0.0, 1.0, 1.0]);
+                if own.is_some_and(|b| b <= 0.0) {
+                    f64::NEG_INFINITY
+                } else {
+                    f64::INFINITY
+                }
+            }
+            None => f64::NEG_INFINITY,
+        }
+    };
+    // The base and lift coefficients are polynomials of bidegree ≤ (3, 3) in (x, y)
+    // (`algesurf_bb::sheet::square`), so 16 rays give them exactly.
+    let at_nodes = |poly: &EdgeCubic, s: f64| -> [Tensor3; 4] {
+        let v: [[[f64; 4]; 4]; 4] = std::array::from_fn(|a| {
+            std::array::from_fn(|b| poly.shooting_polynomial(a as f64 / 3.0, b as f64 / 3.0))
+        });
+        std::array::from_fn(|k| {
+            interpolate_tensor3(&std::array::from_fn(|a| {
+                std::array::from_fn(|b| s * v[a][b][k])
+            }))
+        })
+    };
+    let base = at_nodes(cubic, sign);
+    let lifted = at_nodes(&lift, 1.0);
+    let scale = cubic.polynomial().max_coeff_norm();
+    let bound = certified_square_lift_bound(
+        &base,
+        &[lifted[2], lifted[3]],
+        ray_need,
+        CERTIFIED_GAP * scale,
+        CERTIFIED_MAX_CELLS,
+        floor,
+    );
+    if bound.upper == f64::INFINITY {
+        let [x, y] = bound.worst;
+        return Err(ApatchError::UnliftableEdgeRay {
+            vertices: he.vertices,
+            faces: [he.face_k, fl].map(|f| hull.faces()[f as usize].source_face),
+            side: side.name(),
+            x,
+            y,
+        });
     }
-    Ok(need)
+    Ok(bound.upper)
 }
 
 /// Per face side, the increment of its apex value that its edges need (Step 6 with
@@ -645,7 +672,7 @@ fn edge_increments(
                 };
                 let margin = options.sheet_margin * cubic.polynomial().max_coeff_norm();
                 // Needs up to −margin ask for nothing: exact only above that.
-                let need = edge_need(hull, faces, edges, e, slot, options.bound_level, -margin)?;
+                let need = edge_need(hull, faces, edges, e, slot, -margin)?;
                 if need > -margin {
                     let delta = need + margin;
                     out.push(((he.face_k as usize, side), delta));
@@ -654,6 +681,9 @@ fn edge_increments(
             }
             Ok(out)
         })
+        .collect::<Vec<_>>()
+        .into_iter()
+        // The first error in edge order, whatever the thread count.
         .collect::<Result<_, _>>()?;
     let mut raise: HashMap<(usize, Side), f64> = HashMap::new();
     for (key, d) in needs.into_iter().flatten() {

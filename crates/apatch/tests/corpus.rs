@@ -9,19 +9,18 @@
 //! (the battery's facet sampling does not depend on it).
 //!
 //! `FOLDED`: cow and Suzanne have sharp rims and folds: vertices whose incident faces'
-//! normals nearly fill a hemisphere (the cow's horns and ears, Suzanne's eyelids), with
-//! dihedral angles of 115–150° between neighbouring faces. §3 of Xu–Huang–Bajaj 2001 needs
-//! every vertex normal on the positive side of each incident face; the apex heights
-//! `t_l ∝ 1/n_ijkᵀn_l` of §3.1 make the tetrahedra there 3–6 times taller than their faces
-//! are wide. The default nearest apexes (`algesurf_hull::ApexPlacement::Nearest`) lower them
-//! (that is what made the Stanford bunny build), but on these two the faces' three normals
-//! tilt in different directions, so even the nearest feasible apex stands 1.4 face widths
-//! high and the intersecting pairs grow from round to round (cow 3208 → 17824, Suzanne 3582
-//! → 2965 in six rounds). Measured and rejected earlier (see docs/ARCHITECTURE.md, "Hull
-//! refinement at sharp rims"): Hermite (PN-triangle) edge points, cone-axis normals for
-//! inserted vertices, conditioning all normals to 60°, unfolding vertices to 72° or 60°
-//! cones. When this is solved these meshes move to the smoothing list, and this test catches
-//! any that still fail.
+//! normals nearly fill a hemisphere, with dihedral angles of 115–152° between neighbouring
+//! faces. §3 of Xu–Huang–Bajaj 2001 needs every vertex normal on the positive side of each
+//! incident face; the paper's apex heights `t_l ∝ 1/n_ijkᵀn_l` (§3.1) make the tetrahedra
+//! there 3–6 times taller than their faces are wide. The default nearest apexes
+//! (`algesurf_hull::ApexPlacement::Nearest`) lower them (that is what made the Stanford bunny
+//! build), but on these two a face's steep normals tilt in different directions, so even the
+//! nearest feasible apex stands 1.5 face widths off the face's centre, and refinement does
+//! not converge in six rounds (intersecting pairs: cow 3208 → 17824, Suzanne 3582 → 2965).
+//! Measured and rejected (see docs/ARCHITECTURE.md, "Sharp rims that still fail"): Hermite
+//! (PN-triangle) edge points, cone-axis normals for inserted vertices, conditioning all
+//! normals to 60°, unfolding vertices to 72° or 60° cones. When this is solved these meshes
+//! move to the smoothing list, and this test catches any that still fail.
 
 use algesurf_apatch::{ApatchError, ApatchSurface, SurfaceOptions};
 use algesurf_hull::HullError;

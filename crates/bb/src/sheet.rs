@@ -3,6 +3,7 @@
 //! Bajaj–Chen–Xu 1994 (the sign condition under which the zero set in a tetrahedron is a
 //! triangular j-patch).
 
+pub mod square;
 use crate::multi_index;
 use crate::roots::{UNIT_ROUNDOFF as U, cubic_roots};
 use crate::{BbError, BbPoly};

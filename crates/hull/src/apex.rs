@@ -6,8 +6,8 @@
 //! the three Step 4 coefficients `f_1101`, `f_0111`, `f_1011` nonnegative. Where a vertex
 //! normal `n_l` makes an angle near 90° with the face normal — the rim of a thin sheet — that
 //! tangent plane is nearly orthogonal to the face, `t_l = (p_l − c)ᵀn_l / n_ijkᵀn_l` explodes,
-//! and the spike crosses its neighbours whatever the refinement (docs/ARCHITECTURE.md, "Hull
-//! refinement at sharp rims"). But every one of those conditions is an *affine* inequality in
+//! and the spike crosses its neighbours whatever the refinement (docs/ARCHITECTURE.md, "Apex
+//! placement: the nearest apex"). But every one of those conditions is an *affine* inequality in
 //! the apex `u`:
 //!
 //! * Step 2: `(u − p_l)ᵀn_l ≥ ε ℓ n_ijkᵀn_l` — the margin the paper's `t_l + ε` gives on the
