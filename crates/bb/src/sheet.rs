@@ -260,28 +260,32 @@ pub struct TriangleBound {
     pub cells: usize,
 }
 
-/// A cell of the subdivision: its corners in the triangle's barycentrics and the upper bound.
-struct Cell {
-    upper: f64,
-    corners: [[f64; 3]; 3],
+/// A cell of a branch-and-bound subdivision (`T` its geometry) ordered by its upper bound, so
+/// a max-heap pops the cell with the largest bound first.
+pub(crate) struct Ranked<T> {
+    pub(crate) upper: f64,
+    pub(crate) cell: T,
 }
 
-impl PartialEq for Cell {
+impl<T> PartialEq for Ranked<T> {
     fn eq(&self, other: &Self) -> bool {
         self.upper.total_cmp(&other.upper).is_eq()
     }
 }
-impl Eq for Cell {}
-impl PartialOrd for Cell {
+impl<T> Eq for Ranked<T> {}
+impl<T> PartialOrd for Ranked<T> {
     fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
         Some(self.cmp(other))
     }
 }
-impl Ord for Cell {
+impl<T> Ord for Ranked<T> {
     fn cmp(&self, other: &Self) -> std::cmp::Ordering {
         self.upper.total_cmp(&other.upper)
     }
 }
+
+/// A sub-triangle: its corners in the triangle's barycentrics, with its upper bound.
+type Cell = Ranked<[[f64; 3]; 3]>;
 
 /// Rank of `(l0, l1, ·)` among the 3-indices of degree `m` in the storage order of
 /// [`multi_index`] (λ_0 decreasing, then λ_1).
@@ -415,7 +419,7 @@ pub fn certified_triangle_b_min_below(
     let whole = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
     let root = Cell {
         upper: cell_upper(cell_minima(&layers, &whole)),
-        corners: whole,
+        cell: whole,
     };
     if root.upper <= enough {
         // Decided by the whole triangle's coefficients: no sample needed.
@@ -425,7 +429,7 @@ pub fn certified_triangle_b_min_below(
             cells: 1,
         };
     }
-    let mut sampled = eval_sample(centroid(&root.corners));
+    let mut sampled = eval_sample(centroid(&root.cell));
     let mut cells = 1;
     let mut heap = std::collections::BinaryHeap::new();
     if root.upper > f64::NEG_INFINITY {
@@ -435,7 +439,7 @@ pub fn certified_triangle_b_min_below(
         if top.upper - sampled <= gap || top.upper <= enough || cells + 3 > max_cells {
             break;
         }
-        let c = heap.pop().expect("peeked").corners;
+        let c = heap.pop().expect("peeked").cell;
         let mid = |a: usize, b: usize| std::array::from_fn(|i| 0.5 * (c[a][i] + c[b][i]));
         let (m01, m02, m12) = (mid(0, 1), mid(0, 2), mid(1, 2));
         // The midpoint 4-split (the corner order of `BbPoly::midpoint_split`).
@@ -449,7 +453,10 @@ pub fn certified_triangle_b_min_below(
             sampled = sampled.max(eval_sample(centroid(&corners)));
             let upper = cell_upper(cell_minima(&layers, &corners));
             if upper > f64::NEG_INFINITY {
-                heap.push(Cell { upper, corners });
+                heap.push(Cell {
+                    upper,
+                    cell: corners,
+                });
             }
         }
         cells += 3;

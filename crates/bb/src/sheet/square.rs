@@ -12,6 +12,8 @@
 //! upper bound of Lemma 2.3's `b_min^(1)` — the least `b` for which some `t` has both lifted
 //! de Casteljau coefficients positive — at every ray of the square, by branch and bound.
 
+use super::Ranked;
+
 /// Bernstein coefficients `c[i][j]` of a polynomial of bidegree (3, 3) on `[0, 1]²`:
 /// `Σ c[i][j] B_i^3(x) B_j^3(y)`.
 pub type Tensor3 = [[f64; 4]; 4];
@@ -175,33 +177,12 @@ pub struct SquareBound {
     pub cells: usize,
 }
 
-struct Cell {
-    upper: f64,
-    x: [f64; 2],
-    y: [f64; 2],
-}
+/// A sub-rectangle `x × y` of the square, with its upper bound.
+type Cell = Ranked<([f64; 2], [f64; 2])>;
 
-impl Cell {
-    fn centre(&self) -> [f64; 2] {
-        [0.5 * (self.x[0] + self.x[1]), 0.5 * (self.y[0] + self.y[1])]
-    }
-}
-
-impl PartialEq for Cell {
-    fn eq(&self, other: &Self) -> bool {
-        self.upper.total_cmp(&other.upper).is_eq()
-    }
-}
-impl Eq for Cell {}
-impl PartialOrd for Cell {
-    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
-        Some(self.cmp(other))
-    }
-}
-impl Ord for Cell {
-    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
-        self.upper.total_cmp(&other.upper)
-    }
+fn centre(c: &Cell) -> [f64; 2] {
+    let (x, y) = c.cell;
+    [0.5 * (x[0] + x[1]), 0.5 * (y[0] + y[1])]
 }
 
 /// Certified maximum over the square `[0, 1]²` of rays of Lemma 2.3's `b_min^(1)` for the
@@ -239,10 +220,9 @@ pub fn certified_square_lift_bound(
     };
     let root = Cell {
         upper: bound([0.0, 1.0], [0.0, 1.0]),
-        x: [0.0, 1.0],
-        y: [0.0, 1.0],
+        cell: ([0.0, 1.0], [0.0, 1.0]),
     };
-    let mut worst = root.centre();
+    let mut worst = centre(&root);
     if root.upper <= enough {
         return SquareBound {
             upper: root.upper,
@@ -251,7 +231,7 @@ pub fn certified_square_lift_bound(
             cells: 1,
         };
     }
-    let [cx, cy] = root.centre();
+    let [cx, cy] = centre(&root);
     let mut sampled = sample(cx, cy);
     let mut cells = 1;
     let mut heap = std::collections::BinaryHeap::new();
@@ -259,25 +239,25 @@ pub fn certified_square_lift_bound(
         heap.push(root);
     }
     while let Some(top) = heap.peek() {
-        worst = top.centre();
+        worst = centre(top);
         let closed = top.upper.is_finite() && top.upper - sampled <= gap;
         if closed || top.upper <= enough || cells + 3 > max_cells {
             break;
         }
         let c = heap.pop().expect("peeked");
-        let [mx, my] = c.centre();
+        let [mx, my] = centre(&c);
+        let (cx, cy) = c.cell;
         for (x, y) in [
-            ([c.x[0], mx], [c.y[0], my]),
-            ([mx, c.x[1]], [c.y[0], my]),
-            ([c.x[0], mx], [my, c.y[1]]),
-            ([mx, c.x[1]], [my, c.y[1]]),
+            ([cx[0], mx], [cy[0], my]),
+            ([mx, cx[1]], [cy[0], my]),
+            ([cx[0], mx], [my, cy[1]]),
+            ([mx, cx[1]], [my, cy[1]]),
         ] {
             let child = Cell {
                 upper: bound(x, y),
-                x,
-                y,
+                cell: (x, y),
             };
-            let [sx, sy] = child.centre();
+            let [sx, sy] = centre(&child);
             sampled = sampled.max(sample(sx, sy));
             if child.upper > f64::NEG_INFINITY {
                 heap.push(child);
