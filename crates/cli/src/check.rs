@@ -205,7 +205,7 @@ mod tests {
 
     fn default_surface_args() -> SurfaceArgs {
         SurfaceArgs {
-            normals: crate::smooth::SmoothNormals::Loop,
+            normals: crate::smooth::SmoothNormals::Auto,
             free_parameters: crate::smooth::FreeParametersArg::Quadric,
             gradients: crate::smooth::GradientsArg::Given,
             apex: crate::smooth::ApexArg::Nearest,

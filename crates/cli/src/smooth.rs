@@ -41,8 +41,13 @@ const DEFAULT_MESH: &str = "built-in icosahedron (12 vertices, 20 triangles)";
 /// How `--normals` gives the vertex normals (the gradients of F at the vertices).
 #[derive(clap::ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
 pub enum SmoothNormals {
+    /// Loop normals, and the Butterfly limit normal at vertices where the Loop normal is
+    /// steeper than 60° against a face (sharp rims and folds, where hull refinement needs it).
+    Auto,
     /// Normals of the Loop subdivision limit surface (the paper's choice).
     Loop,
+    /// Normals of the modified Butterfly limit surface, the scheme hull refinement splits by.
+    Butterfly,
     /// Area-weighted face normals.
     Area,
     /// Angle-weighted face normals.
@@ -55,6 +60,8 @@ impl SmoothNormals {
     fn method(self) -> NormalMethod {
         match self {
             SmoothNormals::Loop => NormalMethod::Loop,
+            SmoothNormals::Butterfly => NormalMethod::Butterfly,
+            SmoothNormals::Auto => NormalMethod::LoopButterfly,
             SmoothNormals::Area => NormalMethod::Area,
             SmoothNormals::Angle => NormalMethod::Angle,
             SmoothNormals::File => NormalMethod::FromFile,
@@ -63,6 +70,8 @@ impl SmoothNormals {
     pub(crate) fn name(self) -> &'static str {
         match self {
             SmoothNormals::Loop => "loop",
+            SmoothNormals::Butterfly => "butterfly",
+            SmoothNormals::Auto => "auto",
             SmoothNormals::Area => "area",
             SmoothNormals::Angle => "angle",
             SmoothNormals::File => "file",
@@ -187,7 +196,7 @@ impl GridArgs {
 #[derive(clap::Args, Debug, Clone)]
 pub struct SurfaceArgs {
     /// Vertex normals (the gradients of the surface's function at the vertices).
-    #[arg(long, value_enum, default_value_t = SmoothNormals::Loop)]
+    #[arg(long, value_enum, default_value_t = SmoothNormals::Auto)]
     pub normals: SmoothNormals,
     /// Rule for the free parameters (the function's value at the tetrahedron apexes).
     #[arg(long, value_enum, default_value_t = FreeParametersArg::Quadric)]

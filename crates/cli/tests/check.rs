@@ -57,7 +57,7 @@ fn json_report_is_written_and_parseable() {
         serde_json::from_str(&std::fs::read_to_string(dir.path().join("report.json")).unwrap())
             .unwrap();
     assert_eq!(json["passed"], true);
-    assert_eq!(json["options"]["normals"], "loop");
+    assert_eq!(json["options"]["normals"], "auto");
     let rows = json["rows"].as_array().unwrap();
     for property in PROPERTIES {
         let row = rows

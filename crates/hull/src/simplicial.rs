@@ -2,6 +2,7 @@
 
 use crate::bvh::Bvh;
 use crate::classify::Side;
+use crate::crossing::CrossingZone;
 use crate::hull::{
     ApexCache, HullEdge, HullFace, apex_cache, build as build_faces_edges, check_input,
     longest_edge,
@@ -115,6 +116,8 @@ pub struct SimplicialHull {
     input_vertex_count: usize,
     refinements: Vec<Refinement>,
     options: HullOptions,
+    /// Where the input passes through itself (see [`crate::crossing`]).
+    zone: CrossingZone,
 }
 
 impl SimplicialHull {
@@ -176,6 +179,12 @@ impl SimplicialHull {
     ) -> Result<SimplicialHull, HullError> {
         options.validate()?;
         check_input(&mesh, &normals)?;
+        // Crossings of the input mesh: overlaps around them are the input's, not refined.
+        let zone = if options.check_intersections {
+            CrossingZone::new(&mesh)
+        } else {
+            CrossingZone::default()
+        };
         let mut state = RefineState::new(mesh, normals);
         let mut round = 0;
         // The error to report if a refinement round makes the hull invalid.
@@ -221,11 +230,13 @@ impl SimplicialHull {
                 input_vertex_count: state.input_vertex_count,
                 refinements: Vec::new(),
                 options: options.clone(),
+                zone: CrossingZone::default(),
             };
             // Overlaps between tetrahedra of different connected components are between
-            // different surfaces (the Utah teapot's spout passes through its body): no
-            // refinement separates them, so only same-component overlaps are refined; the
-            // others are reported by `distant_intersections()`.
+            // different surfaces (the Utah teapot's spout passes through its body), and those
+            // around two input faces that cross are the input's (the cow's ears through its
+            // head): no refinement separates them, so only the other overlaps are refined;
+            // these are reported by `distant_intersections()`.
             let hits: Vec<Intersection> = if options.check_intersections {
                 let component = hull.face_components();
                 let tets = hull.tetrahedra();
@@ -238,13 +249,14 @@ impl SimplicialHull {
                 checked = keys;
                 hull.intersections_involving(&tets, fresh.as_deref())
                     .into_iter()
-                    .filter(|h| hull.same_component(&component, h.first.element, h.second.element))
+                    .filter(|h| !hull.unremovable(&component, &zone, &state.face_map, h))
                     .collect()
             } else {
                 Vec::new()
             };
             if hits.is_empty() {
                 return Ok(SimplicialHull {
+                    zone,
                     normals: state.normals,
                     face_map: state.face_map,
                     refinements: state.refinements,
@@ -380,17 +392,52 @@ impl SimplicialHull {
         ca == cb
     }
 
-    /// Overlapping tetrahedra of different connected components of the mesh: places where
-    /// separate surfaces of the input come within the hull's thickness of each other or pass
-    /// through each other (the Utah teapot's spout and handle pass through its body).
-    /// Refinement cannot separate them, so they are reported and not refined; each patch is
-    /// still evaluated in its own tetrahedra, so the surfaces follow the input there.
+    /// Overlapping tetrahedra that refinement cannot separate, left in the hull and reported
+    /// here:
+    /// * those of different connected components of the mesh: places where separate surfaces
+    ///   of the input come within the hull's thickness of each other or pass through each
+    ///   other (the Utah teapot's spout and handle pass through its body);
+    /// * two tetrahedra, one around each of two input faces that cross
+    ///   ([`SimplicialHull::input_crossings`]; "around": of an input face within two rings
+    ///   of it, see `crate::crossing`):
+    ///   the input passes through itself there (the cow's ears and head).
+    ///
+    /// Each patch is still evaluated in its own tetrahedra, so the surface follows the input
+    /// there, through itself where the input is.
     pub fn distant_intersections(&self) -> Vec<Intersection> {
         let component = self.face_components();
         self.intersections()
             .into_iter()
-            .filter(|h| !self.same_component(&component, h.first.element, h.second.element))
+            .filter(|h| self.unremovable(&component, &self.zone, &self.face_map, h))
             .collect()
+    }
+
+    /// The pairs of input faces `[f, g]` (`f < g`, ascending) that share no vertex and pass
+    /// through each other ([`algesurf_mesh::self_intersections`]). Empty unless
+    /// [`HullOptions::check_intersections`] is set (it is by default).
+    pub fn input_crossings(&self) -> &[[u32; 2]] {
+        self.zone.crossings()
+    }
+
+    /// Whether refinement cannot remove overlap `h` (see
+    /// [`SimplicialHull::distant_intersections`]); `face_map` maps this hull's faces to
+    /// input faces.
+    fn unremovable(
+        &self,
+        component: &[u32],
+        zone: &CrossingZone,
+        face_map: &[u32],
+        h: &Intersection,
+    ) -> bool {
+        let (a, b) = (h.first.element, h.second.element);
+        if !self.same_component(component, a, b) {
+            return true;
+        }
+        let fb = self.element_faces(b);
+        self.element_faces(a).iter().any(|&x| {
+            fb.iter()
+                .any(|&y| zone.contains(face_map[x as usize], face_map[y as usize]))
+        })
     }
 
     /// The faces of an element (one for a face, one or two for an edge).

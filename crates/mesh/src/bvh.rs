@@ -416,6 +416,12 @@ impl TriangleBvh {
         best
     }
 
+    /// Ids of the triangles whose bounding boxes meet the closed box `query` (a conservative
+    /// prefilter: it contains every triangle that shares a point with the box), ascending.
+    pub fn boxes_overlapping(&self, query: &Aabb) -> Vec<u32> {
+        self.boxes.overlapping(query)
+    }
+
     /// Ids of the triangles that share a point with the closed box `query` (exact
     /// separating-axis test), ascending.
     pub fn triangles_overlapping_box(&self, query: &Aabb) -> Vec<u32> {

@@ -55,11 +55,14 @@ pub mod repair;
 pub mod validate;
 pub use repair::{RepairOptions, RepairReport, Repaired, repair};
 pub use validate::{Finding, ValidationOptions, ValidationReport, validate, validate_with};
+mod butterfly_normal;
+pub use butterfly_normal::{BUTTERFLY_NORMAL_LEVELS, butterfly_limit_normal};
 mod folds;
 pub mod normals;
 pub use normals::{
-    DEFAULT_MIN_NORMAL_COSINE, NormalMethod, condition_normals, condition_vertex_normals,
-    cone_axis, face_cone_axis, loop_limit_normal, unit_face_normals, vertex_normals,
+    DEFAULT_MIN_NORMAL_COSINE, NormalMethod, STEEP_NORMAL_DEGREES, condition_normals,
+    condition_vertex_normals, cone_axis, face_cone_axis, loop_limit_normal, unit_face_normals,
+    vertex_normals,
 };
 pub mod shapes;
 pub mod subdivision;
@@ -69,4 +72,6 @@ pub use subdivision::{
 };
 pub mod bvh;
 pub mod primitives;
+mod self_intersection;
 pub use bvh::{BoxBvh, ClosestPoint, RayHit, TriangleBvh};
+pub use self_intersection::{SELF_INTERSECTION_TOLERANCE, self_intersections};

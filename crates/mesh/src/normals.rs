@@ -19,10 +19,33 @@ pub enum NormalMethod {
     /// The normal of the limit surface of Loop's subdivision scheme (the 2001 A-patch paper's
     /// choice); see [`loop_limit_normal`] for the interior and boundary masks.
     Loop,
+    /// The normal of the limit surface of the modified Butterfly scheme, the scheme the
+    /// simplicial hull refines by ([`crate::butterfly_limit_normal`]), so that the faces
+    /// refinement makes around a vertex turn into the plane orthogonal to its normal. Falls
+    /// back to the Loop normal where a neighbourhood cannot be subdivided.
+    Butterfly,
+    /// [`NormalMethod::Loop`] where the Loop normal is within [`STEEP_NORMAL_DEGREES`] of every
+    /// incident face, [`NormalMethod::Butterfly`] elsewhere: the Butterfly normal only where
+    /// the hull needs it (at sharp rims and folds, where the Loop normal is steep and the two
+    /// limit tangent planes differ most), at a fraction of its cost.
+    LoopButterfly,
     /// The per-vertex normals carried with the mesh (read from the file), normalised; a zero or
     /// non-finite normal is replaced by the area-weighted one and a normal pointing against
     /// the area-weighted normal is reversed, so the result is oriented with the faces.
     FromFile,
+}
+
+/// The angle between a vertex's Loop normal and one of its faces beyond which
+/// [`NormalMethod::LoopButterfly`] takes the Butterfly normal: 60°.
+pub const STEEP_NORMAL_DEGREES: f64 = 60.0;
+
+/// The least cosine between unit `n` and the unit normals of vertex `v`'s faces (1 for an
+/// unused vertex).
+pub(crate) fn worst_face_cosine(mesh: &TriMesh, v: u32, n: DVec3) -> f64 {
+    mesh.topology()
+        .vertex_faces(v)
+        .map(|f| mesh.face_normal(f as usize).normalize_or_zero().dot(n))
+        .fold(1.0, f64::min)
 }
 
 fn unit_or_zero(v: DVec3) -> DVec3 {
@@ -133,6 +156,29 @@ pub fn vertex_normals(mesh: &TriMesh, method: NormalMethod) -> Result<Vec<DVec3>
                 }
             })
             .collect(),
+        NormalMethod::Butterfly => {
+            let loop_normals = vertex_normals(mesh, NormalMethod::Loop)?;
+            (0..mesh.vertex_count() as u32)
+                .map(|v| {
+                    crate::butterfly_limit_normal(mesh, v, crate::BUTTERFLY_NORMAL_LEVELS)
+                        .unwrap_or(loop_normals[v as usize])
+                })
+                .collect()
+        }
+        NormalMethod::LoopButterfly => {
+            let loop_normals = vertex_normals(mesh, NormalMethod::Loop)?;
+            let steep = STEEP_NORMAL_DEGREES.to_radians().cos();
+            (0..mesh.vertex_count() as u32)
+                .map(|v| {
+                    let n = loop_normals[v as usize];
+                    if worst_face_cosine(mesh, v, n) >= steep {
+                        return n;
+                    }
+                    crate::butterfly_limit_normal(mesh, v, crate::BUTTERFLY_NORMAL_LEVELS)
+                        .unwrap_or(n)
+                })
+                .collect()
+        }
         NormalMethod::FromFile => {
             let file = mesh.file_normals().ok_or(MeshError::MissingNormals {
                 expected: mesh.vertex_count(),

@@ -170,3 +170,47 @@ pub fn triangle_box_overlap([a, b, c]: [DVec3; 3], bx: &Aabb) -> bool {
     }
     true
 }
+
+/// How deeply two triangles interpenetrate: over the separating axes of two triangles (the two
+/// face normals and the nine cross products of an edge of each, each normalised), the least
+/// distance one triangle's projection must move to clear the other's, as a length. It is
+/// negative (a gap) or zero (touching, or coplanar) when some tried axis separates them, and
+/// positive exactly when none does: then the triangles cross, and the value is how far one
+/// must move to separate them along the best of the tried axes.
+///
+/// The separating axis theorem for convex polytopes makes these eleven axes sufficient for
+/// non-coplanar triangles; for coplanar ones every axis is the common normal (or zero and
+/// skipped), whose overlap is 0, so coplanar triangles never count as crossing. Projections are
+/// taken relative to `a[0]`, so rounding scales with the triangles' size (a few ulps of it),
+/// not with their distance from the origin; callers compare the result with a tolerance
+/// relative to that size (see [`crate::self_intersections`]).
+pub fn triangle_overlap_depth(a: [DVec3; 3], b: [DVec3; 3]) -> f64 {
+    let o = a[0];
+    let la = a.map(|p| p - o);
+    let lb = b.map(|p| p - o);
+    let ea = [la[1] - la[0], la[2] - la[1], la[0] - la[2]];
+    let eb = [lb[1] - lb[0], lb[2] - lb[1], lb[0] - lb[2]];
+    let mut depth = f64::INFINITY;
+    let mut test = |w: DVec3| {
+        let len = w.length();
+        if len == 0.0 || !len.is_finite() {
+            return;
+        }
+        let w = w / len;
+        let pa = la.map(|p| p.dot(w));
+        let pb = lb.map(|p| p.dot(w));
+        let (amin, amax) = (pa[0].min(pa[1]).min(pa[2]), pa[0].max(pa[1]).max(pa[2]));
+        let (bmin, bmax) = (pb[0].min(pb[1]).min(pb[2]), pb[0].max(pb[1]).max(pb[2]));
+        // The shorter push that separates the two intervals along `w` (for a flat triangle on
+        // its own normal, a point inside the other interval: the distance to its nearer end).
+        depth = depth.min((amax - bmin).min(bmax - amin));
+    };
+    test(ea[0].cross(ea[1]));
+    test(eb[0].cross(eb[1]));
+    for x in ea {
+        for y in eb {
+            test(x.cross(y));
+        }
+    }
+    if depth == f64::INFINITY { 0.0 } else { depth }
+}
