@@ -33,7 +33,7 @@ pub use retessellate::Retessellation;
 pub use split::{SplitFace, SplitSide};
 pub use surface::{
     ApatchSurface, ConstructionTimings, FaceFunction, FreeParameter, FreeParameterRule,
-    GradientMagnitudes, SurfaceOptions,
+    GradientMagnitudes, MAX_UNLIFTABLE_EDGE_REFINEMENTS, SurfaceOptions,
 };
 pub use tessellate::{PatchKind, Tessellation, TessellationLayout};
 pub use verify::{Owner, Piece, PieceFunction};

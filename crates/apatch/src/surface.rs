@@ -197,6 +197,16 @@ fn coefficient_scale(p: [DVec3; 3], g: [DVec3; 3]) -> f64 {
 impl ApatchSurface {
     /// Builds the hull of `mesh` with unit vertex `normals` (the gradients of F at the
     /// vertices) and the function F on it.
+    ///
+    /// Where an edge A-patch has a ray that no apex value makes single-sheeted (Step 6:
+    /// raising the apex values lowers it, [`ApatchError::UnliftableEdgeRay`]), the hull's
+    /// two faces at that edge are refined ([`SimplicialHull::refine_faces`]) and F is built
+    /// again, at most [`MAX_UNLIFTABLE_EDGE_REFINEMENTS`] times.
+    ///
+    /// # Errors
+    /// [`ApatchError::Hull`] when the hull cannot be built; [`ApatchError::UnliftableEdgeRay`]
+    /// when an edge A-patch is still unliftable after the refinements; the other variants of
+    /// [`ApatchError`] for degenerate configurations, each naming the face or edge.
     pub fn new(
         mesh: &TriMesh,
         normals: &[DVec3],
@@ -223,55 +233,30 @@ impl ApatchSurface {
             }
         };
         let start = std::time::Instant::now();
-        let hull = SimplicialHull::from_mesh(mesh, &normals, &options.hull)?;
-        let hull_time = start.elapsed();
-        let m = hull.mesh();
-        let grads = hull.normals();
-        let pos = m.positions();
-        let built: Vec<(FaceFunction, Vec<FreeParameter>)> = (0..m.face_count())
-            .into_par_iter()
-            .map(|f| build_face(&hull, f, grads, pos, options))
-            .collect::<Vec<_>>()
-            .into_iter()
-            // The first error in face order, whatever the thread count.
-            .collect::<Result<_, _>>()?;
-        let mut faces = Vec::with_capacity(built.len());
-        let mut parameters = Vec::new();
-        for (ff, params) in built {
-            faces.push(ff);
-            parameters.extend(params);
-        }
-        let edges = build_edges(&hull, &faces)?;
-        // Step 6, second part: the edge A-patches need their own lower bound B_ijkl on a common
-        // increment of the two faces' apex values; raise each face side by the largest
-        // increment its edges need (raising only helps every other ray, Lemma 2.3).
-        let raise = edge_increments(&hull, &faces, &edges, options)?;
-        let sq = apex_square();
-        for (&(f, side), &delta) in &raise {
-            let sign = if side == Side::Positive { 1.0 } else { -1.0 };
-            match &mut faces[f] {
-                FaceFunction::Convex { cubic, .. } => cubic.set_f0003(cubic.f0003() + sign * delta),
-                FaceFunction::Split(split) => {
-                    let s = if side == Side::Positive { 0 } else { 1 };
-                    for poly in &mut split.sides[s].polys {
-                        *poly = poly.add_poly(&sq.scale(sign * delta));
-                    }
+        let mut hull = SimplicialHull::from_mesh(mesh, &normals, &options.hull)?;
+        let mut hull_time = start.elapsed();
+        // An edge A-patch that no apex value makes single-sheeted is a local defect of the
+        // hull there (a thin, skewed edge tetrahedron whose C1 continuation weights turn
+        // negative): refine its two faces, as overlapping tetrahedra are refined, and build
+        // again.
+        let mut refined_edges = 0;
+        let (faces, edges, parameters) = loop {
+            match build_function(&hull, options) {
+                Err(ApatchError::UnliftableEdgeRay {
+                    vertices: [a, b], ..
+                }) if refined_edges < MAX_UNLIFTABLE_EDGE_REFINEMENTS => {
+                    let t = hull.mesh().topology();
+                    let faces: Vec<u32> = t
+                        .find_edge(a, b)
+                        .map(|e| t.edge_faces(e).collect())
+                        .unwrap_or_default();
+                    let again = std::time::Instant::now();
+                    hull = hull.refine_faces(&faces)?;
+                    hull_time += again.elapsed();
+                    refined_edges += 1;
                 }
-                FaceFunction::Planar => {}
+                other => break other?,
             }
-            for p in parameters
-                .iter_mut()
-                .filter(|p| p.face == f && p.side == side)
-            {
-                p.value += sign * delta;
-                p.relative_margin = (p.value - p.bound).abs() / p.scale;
-            }
-        }
-        // The edge cubics depend on the raised faces: rebuild those next to a raised side.
-        let edges = if raise.is_empty() {
-            edges
-        } else {
-            rebuild_raised_edges(&hull, &faces, edges, &raise)?
         };
         let timings = ConstructionTimings {
             hull: hull_time,
@@ -691,4 +676,74 @@ fn edge_increments(
         *e = e.max(d);
     }
     Ok(raise)
+}
+
+/// How many times [`ApatchSurface::new`] refines the two faces of an edge whose A-patch has a
+/// ray no apex value makes single-sheeted ([`ApatchError::UnliftableEdgeRay`]) before it
+/// reports the error: 8. Each refinement rebuilds F, so the bound keeps a mesh with many
+/// such edges from rebuilding without end; the corpus needs at most one (the cow).
+pub const MAX_UNLIFTABLE_EDGE_REFINEMENTS: usize = 8;
+
+/// The face functions, edge cubics and free parameters of F on `hull` (§4.2, Steps 1–10).
+#[allow(clippy::type_complexity)]
+fn build_function(
+    hull: &SimplicialHull,
+    options: &SurfaceOptions,
+) -> Result<
+    (
+        Vec<FaceFunction>,
+        Vec<[Option<EdgeCubic>; 2]>,
+        Vec<FreeParameter>,
+    ),
+    ApatchError,
+> {
+    let m = hull.mesh();
+    let grads = hull.normals();
+    let pos = m.positions();
+    let built: Vec<(FaceFunction, Vec<FreeParameter>)> = (0..m.face_count())
+        .into_par_iter()
+        .map(|f| build_face(hull, f, grads, pos, options))
+        .collect::<Vec<_>>()
+        .into_iter()
+        // The first error in face order, whatever the thread count.
+        .collect::<Result<_, _>>()?;
+    let mut faces = Vec::with_capacity(built.len());
+    let mut parameters = Vec::new();
+    for (ff, params) in built {
+        faces.push(ff);
+        parameters.extend(params);
+    }
+    let edges = build_edges(hull, &faces)?;
+    // Step 6, second part: the edge A-patches need their own lower bound B_ijkl on a common
+    // increment of the two faces' apex values; raise each face side by the largest
+    // increment its edges need (raising only helps every other ray, Lemma 2.3).
+    let raise = edge_increments(hull, &faces, &edges, options)?;
+    let sq = apex_square();
+    for (&(f, side), &delta) in &raise {
+        let sign = if side == Side::Positive { 1.0 } else { -1.0 };
+        match &mut faces[f] {
+            FaceFunction::Convex { cubic, .. } => cubic.set_f0003(cubic.f0003() + sign * delta),
+            FaceFunction::Split(split) => {
+                let s = if side == Side::Positive { 0 } else { 1 };
+                for poly in &mut split.sides[s].polys {
+                    *poly = poly.add_poly(&sq.scale(sign * delta));
+                }
+            }
+            FaceFunction::Planar => {}
+        }
+        for p in parameters
+            .iter_mut()
+            .filter(|p| p.face == f && p.side == side)
+        {
+            p.value += sign * delta;
+            p.relative_margin = (p.value - p.bound).abs() / p.scale;
+        }
+    }
+    // The edge cubics depend on the raised faces: rebuild those next to a raised side.
+    let edges = if raise.is_empty() {
+        edges
+    } else {
+        rebuild_raised_edges(hull, &faces, edges, &raise)?
+    };
+    Ok((faces, edges, parameters))
 }

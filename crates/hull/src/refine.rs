@@ -29,7 +29,7 @@ pub(crate) struct RefineState {
     pub(crate) refinements: Vec<Refinement>,
     pub(crate) input_vertex_count: usize,
     /// For edges incident to an inserted vertex: the input edge whose refinement made them.
-    ancestor: HashMap<[u32; 2], [u32; 2]>,
+    pub(crate) ancestor: HashMap<[u32; 2], [u32; 2]>,
 }
 
 pub(crate) fn key(a: u32, b: u32) -> [u32; 2] {
@@ -65,6 +65,25 @@ impl RefineState {
             normals,
             refinements: Vec::new(),
             ancestor: HashMap::new(),
+        }
+    }
+
+    /// The state a hull was left in (see `SimplicialHull::refine_faces`).
+    pub(crate) fn from_parts(
+        mesh: TriMesh,
+        normals: Vec<DVec3>,
+        face_map: Vec<u32>,
+        refinements: Vec<Refinement>,
+        input_vertex_count: usize,
+        ancestor: HashMap<[u32; 2], [u32; 2]>,
+    ) -> RefineState {
+        RefineState {
+            mesh,
+            normals,
+            face_map,
+            refinements,
+            input_vertex_count,
+            ancestor,
         }
     }
 

@@ -13,6 +13,7 @@ use crate::{HullError, HullOptions};
 use algesurf_mesh::TriMesh;
 use glam::DVec3;
 use rayon::prelude::*;
+use std::collections::HashMap;
 use std::collections::HashSet;
 
 /// A tetrahedron's identity across refinement rounds: its side and its vertices' bits.
@@ -118,6 +119,8 @@ pub struct SimplicialHull {
     options: HullOptions,
     /// Where the input passes through itself (see [`crate::crossing`]).
     zone: CrossingZone,
+    /// For edges at inserted vertices: the input edge whose refinement made them.
+    ancestor: HashMap<[u32; 2], [u32; 2]>,
 }
 
 impl SimplicialHull {
@@ -185,8 +188,63 @@ impl SimplicialHull {
         } else {
             CrossingZone::default()
         };
-        let mut state = RefineState::new(mesh, normals);
-        let mut round = 0;
+        Self::refine(RefineState::new(mesh, normals), zone, options, 0)
+    }
+
+    /// Bisects the faces `faces` (ids of this hull's mesh) by longest-edge propagation, as a
+    /// refinement round does for the faces of intersecting tetrahedra, then builds and checks
+    /// the hull again and refines its intersections as [`SimplicialHull::new`] does, with up
+    /// to [`HullOptions::max_refinement_rounds`] further rounds. Input vertices keep their
+    /// positions, normals and ids; the face map still leads to the input faces.
+    ///
+    /// For a hull that is valid but on which a later stage fails locally: the A-patch
+    /// construction refines the two faces of an edge whose A-patch cannot be made
+    /// single-sheeted (`algesurf_apatch::ApatchSurface::new`).
+    ///
+    /// # Errors
+    /// As [`SimplicialHull::new`]; [`HullError::Mesh`] if a face id is out of range.
+    pub fn refine_faces(&self, faces: &[u32]) -> Result<SimplicialHull, HullError> {
+        let round = self.refinements.last().map_or(0, |r| r.round + 1);
+        let mut state = RefineState::from_parts(
+            self.mesh.clone(),
+            self.normals.clone(),
+            self.face_map.clone(),
+            self.refinements.clone(),
+            self.input_vertex_count,
+            self.ancestor.clone(),
+        );
+        let corners: Vec<[u32; 3]> = faces
+            .iter()
+            .map(|&f| {
+                state
+                    .mesh
+                    .triangles()
+                    .get(f as usize)
+                    .copied()
+                    .ok_or_else(|| {
+                        HullError::Mesh(algesurf_mesh::MeshError::NoSuchElement {
+                            kind: "face",
+                            id: f as usize,
+                            count: state.mesh.face_count(),
+                        })
+                    })
+            })
+            .collect::<Result<_, _>>()?;
+        for (&f, &c) in faces.iter().zip(&corners) {
+            state.bisect_face(f, c, round)?;
+        }
+        Self::refine(state, self.zone.clone(), &self.options, round + 1)
+    }
+
+    /// The build-check-refine loop of [`SimplicialHull::new`] from `state`, numbering its
+    /// rounds from `first_round`.
+    fn refine(
+        mut state: RefineState,
+        zone: CrossingZone,
+        options: &HullOptions,
+        first_round: usize,
+    ) -> Result<SimplicialHull, HullError> {
+        let mut round = first_round;
         // The error to report if a refinement round makes the hull invalid.
         let mut pending: Option<HullError> = None;
         // The previous round's tetrahedra (see `intersections_involving`).
@@ -231,6 +289,7 @@ impl SimplicialHull {
                 refinements: Vec::new(),
                 options: options.clone(),
                 zone: CrossingZone::default(),
+                ancestor: HashMap::new(),
             };
             // Overlaps between tetrahedra of different connected components are between
             // different surfaces (the Utah teapot's spout passes through its body), and those
@@ -241,7 +300,7 @@ impl SimplicialHull {
                 let component = hull.face_components();
                 let tets = hull.tetrahedra();
                 let keys: TetSet = tets.iter().map(tet_key).collect();
-                let fresh: Option<Vec<bool>> = (round > 0).then(|| {
+                let fresh: Option<Vec<bool>> = (round > first_round).then(|| {
                     tets.iter()
                         .map(|t| !checked.contains(&tet_key(t)))
                         .collect()
@@ -257,6 +316,7 @@ impl SimplicialHull {
             if hits.is_empty() {
                 return Ok(SimplicialHull {
                     zone,
+                    ancestor: state.ancestor,
                     normals: state.normals,
                     face_map: state.face_map,
                     refinements: state.refinements,
@@ -275,7 +335,7 @@ impl SimplicialHull {
                 rounds: round,
                 reason,
             };
-            if round == options.max_refinement_rounds {
+            if round - first_round == options.max_refinement_rounds {
                 // Same-component overlaps that survive every round are an error.
                 return Err(unresolved(format!(
                     "the limit of {round} rounds is reached; {}",

@@ -290,3 +290,50 @@ fn interpenetrating_components_are_reported_not_refined() {
     assert!(!distant.is_empty());
     assert_eq!(distant.len(), hull.intersections().len());
 }
+
+/// `refine_faces` bisects the faces asked for (and what longest-edge propagation needs),
+/// keeps every input vertex, its normal and id, maps every new face into an input face it lies
+/// in, numbers its rounds after the hull's own, and leaves a hull without overlaps.
+#[test]
+fn refining_given_faces_keeps_the_input_and_the_face_map() {
+    let (p, t) = icosphere(1);
+    let n: Vec<DVec3> = p.iter().map(|q| q.normalize()).collect();
+    let hull = SimplicialHull::new(&p, &t, &n, &HullOptions::default()).unwrap();
+    assert!(hull.refinements().is_empty());
+    let refined = hull.refine_faces(&[0, 7]).unwrap();
+    assert!(refined.faces().len() >= hull.faces().len() + 2);
+    assert_eq!(refined.input_vertex_count(), p.len());
+    assert_eq!(&refined.mesh().positions()[..p.len()], p.as_slice());
+    assert_eq!(&refined.normals()[..p.len()], n.as_slice());
+    let mesh = refined.mesh();
+    for (f, &source) in refined.face_map().iter().enumerate() {
+        // Each face lies over the input face it maps to: its centroid, projected into that
+        // face's plane, has barycentric coordinates ≥ 0 there (up to the Butterfly points'
+        // sideways offset, a few percent of the face on a sphere).
+        assert!((source as usize) < t.len(), "face {f} maps to {source}");
+        let c = mesh.triangle_points(f).iter().sum::<DVec3>() / 3.0;
+        let [a, b, d] = t[source as usize].map(|v| p[v as usize]);
+        let normal = (b - a).cross(d - a);
+        let area2 = normal.length_squared();
+        let bary = [(b, d), (d, a), (a, b)].map(|(x, y)| (y - x).cross(c - x).dot(normal) / area2);
+        assert!(
+            bary.iter().all(|&w| w > -0.05),
+            "face {f} is not over input face {source}: {bary:?}"
+        );
+    }
+    // Faces 0 and 7 themselves were split.
+    assert!(
+        !refined
+            .face_map()
+            .iter()
+            .enumerate()
+            .any(|(f, &s)| { (s == 0 || s == 7) && mesh.triangles()[f] == t[s as usize] })
+    );
+    assert!(refined.refinements().iter().all(|r| r.round == 0));
+    assert!(refined.intersections().is_empty());
+    // Out-of-range ids are an error, not a panic.
+    assert!(matches!(
+        hull.refine_faces(&[10_000]),
+        Err(HullError::Mesh(_))
+    ));
+}
