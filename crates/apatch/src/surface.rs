@@ -242,20 +242,26 @@ impl ApatchSurface {
         let mut refined_edges = 0;
         let (faces, edges, parameters) = loop {
             match build_function(&hull, options) {
-                Err(ApatchError::UnliftableEdgeRay {
-                    vertices: [a, b], ..
-                }) if refined_edges < MAX_UNLIFTABLE_EDGE_REFINEMENTS => {
+                Ok(parts) => break parts,
+                Err(BuildFailure::Unliftable { edges, .. })
+                    if refined_edges < MAX_UNLIFTABLE_EDGE_REFINEMENTS =>
+                {
                     let t = hull.mesh().topology();
-                    let faces: Vec<u32> = t
-                        .find_edge(a, b)
-                        .map(|e| t.edge_faces(e).collect())
-                        .unwrap_or_default();
+                    let mut faces: Vec<u32> = edges
+                        .iter()
+                        .filter_map(|&[a, b]| t.find_edge(a, b))
+                        .flat_map(|e| t.edge_faces(e))
+                        .collect();
+                    faces.sort_unstable();
+                    faces.dedup();
                     let again = std::time::Instant::now();
                     hull = hull.refine_faces(&faces)?;
                     hull_time += again.elapsed();
                     refined_edges += 1;
                 }
-                other => break other?,
+                Err(BuildFailure::Unliftable { first, .. } | BuildFailure::Other(first)) => {
+                    return Err(first);
+                }
             }
         };
         let timings = ConstructionTimings {
@@ -641,8 +647,8 @@ fn edge_increments(
     faces: &[FaceFunction],
     edges: &[[Option<EdgeCubic>; 2]],
     options: &SurfaceOptions,
-) -> Result<HashMap<(usize, Side), f64>, ApatchError> {
-    let needs: Vec<Needs> = hull
+) -> Result<HashMap<(usize, Side), f64>, BuildFailure> {
+    let needs: Vec<Result<Needs, ApatchError>> = hull
         .edges()
         .par_iter()
         .enumerate()
@@ -668,8 +674,28 @@ fn edge_increments(
         })
         .collect::<Vec<_>>()
         .into_iter()
-        // The first error in edge order, whatever the thread count.
-        .collect::<Result<_, _>>()?;
+        .collect::<Vec<_>>();
+    // The first error in edge order, whatever the thread count; with it, every unliftable
+    // edge, so that one refinement pass can take them all.
+    if let Some(first) = needs.iter().position(Result::is_err) {
+        let unliftable: Vec<[u32; 2]> = needs
+            .iter()
+            .filter_map(|n| match n {
+                Err(ApatchError::UnliftableEdgeRay { vertices, .. }) => Some(*vertices),
+                _ => None,
+            })
+            .collect();
+        let error = needs.into_iter().nth(first).and_then(Result::err);
+        return Err(match error {
+            Some(e @ ApatchError::UnliftableEdgeRay { .. }) => BuildFailure::Unliftable {
+                first: e,
+                edges: unliftable,
+            },
+            Some(e) => BuildFailure::Other(e),
+            None => unreachable!("position found an error"),
+        });
+    }
+    let needs: Vec<Needs> = needs.into_iter().map(|n| n.unwrap_or_default()).collect();
     let mut raise: HashMap<(usize, Side), f64> = HashMap::new();
     for (key, d) in needs.into_iter().flatten() {
         let e = raise.entry(key).or_insert(0.0);
@@ -684,19 +710,37 @@ fn edge_increments(
 /// such edges from rebuilding without end; the corpus needs at most one (the cow).
 pub const MAX_UNLIFTABLE_EDGE_REFINEMENTS: usize = 8;
 
+/// F on a hull: the face functions, the edge cubics (positive, negative) and the free
+/// parameters.
+type FunctionParts = (
+    Vec<FaceFunction>,
+    Vec<[Option<EdgeCubic>; 2]>,
+    Vec<FreeParameter>,
+);
+
+/// Why [`build_function`] failed.
+enum BuildFailure {
+    /// Edge A-patches with a ray no apex value makes single-sheeted: the first error in edge
+    /// order, and the vertices of every such edge.
+    Unliftable {
+        first: ApatchError,
+        edges: Vec<[u32; 2]>,
+    },
+    /// Anything else.
+    Other(ApatchError),
+}
+
+impl From<ApatchError> for BuildFailure {
+    fn from(e: ApatchError) -> Self {
+        BuildFailure::Other(e)
+    }
+}
+
 /// The face functions, edge cubics and free parameters of F on `hull` (§4.2, Steps 1–10).
-#[allow(clippy::type_complexity)]
 fn build_function(
     hull: &SimplicialHull,
     options: &SurfaceOptions,
-) -> Result<
-    (
-        Vec<FaceFunction>,
-        Vec<[Option<EdgeCubic>; 2]>,
-        Vec<FreeParameter>,
-    ),
-    ApatchError,
-> {
+) -> Result<FunctionParts, BuildFailure> {
     let m = hull.mesh();
     let grads = hull.normals();
     let pos = m.positions();

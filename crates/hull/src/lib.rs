@@ -52,6 +52,7 @@ mod bvh;
 mod classify;
 mod crossing;
 mod edge_point;
+mod edit;
 mod error;
 mod hull;
 mod overlap;

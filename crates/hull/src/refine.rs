@@ -16,6 +16,7 @@
 
 use crate::HullError;
 use crate::edge_point::fold_safe_split;
+use crate::edit::EditMesh;
 use crate::simplicial::Refinement;
 use algesurf_mesh::TriMesh;
 use glam::DVec3;
@@ -30,6 +31,9 @@ pub(crate) struct RefineState {
     pub(crate) input_vertex_count: usize,
     /// For edges incident to an inserted vertex: the input edge whose refinement made them.
     pub(crate) ancestor: HashMap<[u32; 2], [u32; 2]>,
+    /// The mesh being split during a round (`mesh` is stale while this is `Some`; see
+    /// [`RefineState::finish_round`]).
+    edit: Option<EditMesh>,
 }
 
 pub(crate) fn key(a: u32, b: u32) -> [u32; 2] {
@@ -42,7 +46,7 @@ fn edge_rank(p: &[DVec3], a: u32, b: u32) -> (f64, [u32; 2]) {
     (p[a as usize].distance_squared(p[b as usize]), key(a, b))
 }
 
-fn longest_edge(mesh: &TriMesh, f: u32) -> [u32; 2] {
+fn longest_edge(mesh: &EditMesh, f: u32) -> [u32; 2] {
     let t = mesh.triangles()[f as usize];
     let p = mesh.positions();
     let mut best = [t[0], t[1]];
@@ -65,6 +69,7 @@ impl RefineState {
             normals,
             refinements: Vec::new(),
             ancestor: HashMap::new(),
+            edit: None,
         }
     }
 
@@ -84,6 +89,7 @@ impl RefineState {
             refinements,
             input_vertex_count,
             ancestor,
+            edit: None,
         }
     }
 
@@ -93,23 +99,50 @@ impl RefineState {
         self.ancestor.get(&key(a, b)).copied().unwrap_or(key(a, b))
     }
 
+    /// Ends a round of splits: the mesh is rebuilt from the edits once.
+    pub(crate) fn finish_round(&mut self) -> Result<(), HullError> {
+        if let Some(edit) = self.edit.take() {
+            self.mesh = edit.to_mesh()?;
+        }
+        Ok(())
+    }
+
+    fn edit(&mut self) -> &mut EditMesh {
+        self.edit.get_or_insert_with(|| EditMesh::new(&self.mesh))
+    }
+
     /// Splits edge `a`–`b` and gives the new vertex its normal, without making any face
-    /// invalid (see [`fold_safe_split`]).
+    /// invalid (see [`fold_safe_split`], run on the faces at `a` and `b`, which hold all it
+    /// reads).
     fn split(&mut self, a: u32, b: u32, round: usize) -> Result<(), HullError> {
         let input_edge = self.input_edge(a, b);
-        let (refined, normal) = fold_safe_split(&self.mesh, &self.normals, a, b)?;
-        let m = refined.new_vertex;
-        self.face_map = refined
-            .face_parent
+        let cut = self.edit().cut_out(a, b)?;
+        let local_normals: Vec<DVec3> = cut
+            .global
             .iter()
-            .map(|&f| self.face_map[f as usize])
+            .map(|&v| self.normals[v as usize])
             .collect();
-        self.mesh = refined.mesh;
+        let (refined, normal) = fold_safe_split(&cut.mesh, &local_normals, cut.a, cut.b)?;
+        let point = refined.mesh.positions()[refined.new_vertex as usize];
+        if !point.is_finite() {
+            return Err(algesurf_mesh::MeshError::NonFinite(format!("edge point {point}")).into());
+        }
+        let edit = self.edit();
+        let (m, split) = edit.split_edge(a, b, point);
+        let mut neighbours = vec![a, b];
+        for &f in &split {
+            let t = edit.triangles()[f as usize];
+            neighbours.extend(t.iter().copied().filter(|&v| v != m && v != a && v != b));
+        }
+        self.face_map.extend(
+            split
+                .iter()
+                .map(|&f| self.face_map[f as usize])
+                .collect::<Vec<_>>(),
+        );
         self.normals.push(normal);
-        let t = self.mesh.topology();
-        for &e in t.vertex_edges(m) {
-            self.ancestor
-                .insert(key(m, t.opposite_vertex(e, m)), input_edge);
+        for w in neighbours {
+            self.ancestor.insert(key(m, w), input_edge);
         }
         self.refinements.push(Refinement {
             round,
@@ -131,16 +164,15 @@ impl RefineState {
         // Each pass splits one edge; the path climbs a strict order, so a pass is finite, and
         // each pass either splits `f` or a face on its path, which a few passes exhaust.
         for _ in 0..64 {
-            if self.mesh.triangles().get(f as usize) != Some(&corners) {
+            let edit = self.edit();
+            if edit.triangles().get(f as usize) != Some(&corners) {
                 return Ok(());
             }
             let mut cur = f;
             let terminal = loop {
-                let [a, b] = longest_edge(&self.mesh, cur);
-                let t = self.mesh.topology();
-                let e = t.find_edge(a, b).expect("edge of a face exists");
-                match t.edge_faces(e).find(|&g| g != cur) {
-                    Some(g) if key_eq(longest_edge(&self.mesh, g), [a, b]) => break [a, b],
+                let [a, b] = longest_edge(edit, cur);
+                match edit.edge_faces(a, b).into_iter().find(|&g| g != cur) {
+                    Some(g) if key_eq(longest_edge(edit, g), [a, b]) => break [a, b],
                     Some(g) => cur = g,
                     None => break [a, b],
                 }

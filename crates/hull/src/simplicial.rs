@@ -233,6 +233,7 @@ impl SimplicialHull {
         for (&f, &c) in faces.iter().zip(&corners) {
             state.bisect_face(f, c, round)?;
         }
+        state.finish_round()?;
         Self::refine(state, self.zone.clone(), &self.options, round + 1)
     }
 
@@ -362,6 +363,7 @@ impl SimplicialHull {
             for (&f, &c) in targets.iter().zip(&corners) {
                 state.bisect_face(f, c, round)?;
             }
+            state.finish_round()?;
             round += 1;
         }
     }
