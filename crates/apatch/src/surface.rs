@@ -672,9 +672,7 @@ fn edge_increments(
             }
             Ok(out)
         })
-        .collect::<Vec<_>>()
-        .into_iter()
-        .collect::<Vec<_>>();
+        .collect();
     // The first error in edge order, whatever the thread count; with it, every unliftable
     // edge, so that one refinement pass can take them all.
     if let Some(first) = needs.iter().position(Result::is_err) {
