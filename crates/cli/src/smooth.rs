@@ -611,6 +611,9 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
         .fold(f64::INFINITY, f64::min);
     let counts = patch_counts(&surface);
     let hull_faces = surface.hull().mesh().face_count();
+    // Faces of the input that pass through each other: the surface does there too (their
+    // tetrahedra are left overlapping, see `SimplicialHull::distant_intersections`).
+    let crossings = surface.hull().input_crossings();
 
     let out_mesh = output_mesh(&tess);
     let write_options = WriteOptions::default();
@@ -653,6 +656,7 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
             "faces": hull_faces,
             "refinements": refinements,
             "refinement_rounds": rounds,
+            "input_crossings": crossings.len(),
         },
         "patches": {
             "face": counts.face,
@@ -703,6 +707,14 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
             tri.face_count(),
             tri.vertex_count()
         );
+        if let Some([f, g]) = crossings.first() {
+            let _ = writeln!(
+                s,
+                "input self-crossings: {} face pairs (first: faces {f} and {g}); the surface passes \
+                 through itself there too",
+                crossings.len()
+            );
+        }
         let _ = writeln!(
             s,
             "patches out: {} ({} face, of which {} on split nonconvex faces; {} edge; {} planar)",

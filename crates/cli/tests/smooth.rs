@@ -214,6 +214,7 @@ fn icosphere_with_sphere_normals_gives_the_sphere() {
         json["output_mesh"]["triangles"].as_u64(),
         Some(mesh.face_count() as u64)
     );
+    assert_eq!(json["hull"]["input_crossings"], 0);
     assert_eq!(json["missed_rays"], 0);
     assert_eq!(json["multiple_roots"], 0);
     assert_eq!(json["ok"], true);
