@@ -140,11 +140,7 @@ fn face_name(face_map: &[u32], f: usize) -> String {
 
 /// The length of a triangle's longest edge: the size all of §3.1's per-face lengths (`ε`,
 /// the apex floor) are taken relative to.
-pub(crate) fn longest_edge(corners: [DVec3; 3]) -> f64 {
-    (0..3)
-        .map(|c| corners[c].distance(corners[(c + 1) % 3]))
-        .fold(0.0, f64::max)
-}
+pub(crate) use algesurf_mesh::primitives::longest_edge_length as longest_edge;
 
 /// Checks vertex data.
 pub(crate) fn check_input(mesh: &TriMesh, normals: &[DVec3]) -> Result<(), HullError> {

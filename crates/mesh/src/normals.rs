@@ -162,22 +162,15 @@ pub fn vertex_normals(mesh: &TriMesh, method: NormalMethod) -> Result<Vec<DVec3>
                 }
             })
             .collect(),
-        NormalMethod::Butterfly => {
-            let loop_normals = vertex_normals(mesh, NormalMethod::Loop)?;
-            (0..mesh.vertex_count() as u32)
-                .map(|v| {
-                    crate::butterfly_limit_normal(mesh, v, crate::BUTTERFLY_NORMAL_LEVELS)
-                        .unwrap_or(loop_normals[v as usize])
-                })
-                .collect()
-        }
-        NormalMethod::LoopButterfly => {
+        NormalMethod::Butterfly | NormalMethod::LoopButterfly => {
             let loop_normals = vertex_normals(mesh, NormalMethod::Loop)?;
             let steep = STEEP_NORMAL_DEGREES.to_radians().cos();
             (0..mesh.vertex_count() as u32)
                 .map(|v| {
                     let n = loop_normals[v as usize];
-                    if worst_face_cosine(mesh, v, n) >= steep {
+                    if method == NormalMethod::LoopButterfly
+                        && worst_face_cosine(mesh, v, n) >= steep
+                    {
                         return n;
                     }
                     crate::butterfly_limit_normal(mesh, v, crate::BUTTERFLY_NORMAL_LEVELS)

@@ -171,6 +171,14 @@ pub fn triangle_box_overlap([a, b, c]: [DVec3; 3], bx: &Aabb) -> bool {
     true
 }
 
+/// The length of the longest edge of triangle `t`: the size that tolerances on a triangle are
+/// taken relative to.
+pub fn longest_edge_length(t: [DVec3; 3]) -> f64 {
+    (0..3)
+        .map(|k| t[k].distance(t[(k + 1) % 3]))
+        .fold(0.0, f64::max)
+}
+
 /// How deeply two triangles interpenetrate: over the separating axes of two triangles (the two
 /// face normals and the nine cross products of an edge of each, each normalised), the least
 /// distance one triangle's projection must move to clear the other's, as a length. It is

@@ -3,13 +3,13 @@
 use crate::TriMesh;
 use crate::bvh::TriangleBvh;
 use crate::geometry::Aabb;
-use crate::primitives::triangle_overlap_depth;
+use crate::primitives::{longest_edge_length, triangle_overlap_depth};
 
 /// Relative depth beyond which two triangles count as crossing in [`self_intersections`]:
 /// `1e-9` of the longer of their longest edges. Rounding in [`triangle_overlap_depth`] is a
 /// few ulps of the triangles' size (about `1e-15` of it), so touching and coplanar neighbours
-/// stay below it by six orders of magnitude, while a real crossing of a mesh (the cow's head
-/// through its neck: an eighth of a face width) is eight orders of magnitude above it.
+/// stay below it by six orders of magnitude, while a real crossing of a mesh (the cow's ears
+/// through its head: an eighth of a face width) is eight orders of magnitude above it.
 pub const SELF_INTERSECTION_TOLERANCE: f64 = 1e-9;
 
 /// The pairs of faces `[f, g]` (`f < g`, ascending) that share no vertex and pass through each
@@ -59,7 +59,7 @@ pub fn self_intersections(mesh: &TriMesh) -> Vec<[u32; 2]> {
                 continue;
             }
             let b = mesh.triangle_points(g as usize);
-            let size = longest_edge(a).max(longest_edge(b));
+            let size = longest_edge_length(a).max(longest_edge_length(b));
             if triangle_overlap_depth(a, b) > SELF_INTERSECTION_TOLERANCE * size {
                 out.push([f as u32, g]);
             }
@@ -67,12 +67,6 @@ pub fn self_intersections(mesh: &TriMesh) -> Vec<[u32; 2]> {
     }
     out.sort_unstable();
     out
-}
-
-fn longest_edge(t: [glam::DVec3; 3]) -> f64 {
-    (0..3)
-        .map(|k| t[k].distance(t[(k + 1) % 3]))
-        .fold(0.0, f64::max)
 }
 
 #[cfg(test)]
