@@ -21,6 +21,35 @@ pub(crate) fn exact_barycentric(t: &Tetrahedron, p: DVec3) -> [f64; 4] {
     t.barycentric(p)
 }
 
+/// Components of barycentric coordinates (or of a barycentric direction) that are zero in
+/// exact arithmetic come out of [`Tetrahedron::barycentric`] as rounding, ~1e-16 of the
+/// largest: `1e-11` of the largest is far above that (a tetrahedron would need a condition
+/// number near 1e5 to round a zero that high) and far below any component the geometry
+/// gives (sub-tetrahedra of a split face have coordinates of order 1).
+const ROUNDING_ZERO: f64 = 1e-11;
+
+/// `x` with the components at rounding level (at most [`ROUNDING_ZERO`] of the largest) made
+/// exact zeros, their sum moved onto the largest component so that the total (1 for a point,
+/// 0 for a direction) is kept. The point (or direction) moves by at most `1e-11` of the
+/// tetrahedron's size; C1 rows built from it then carry exact zero weights where the
+/// geometry has them (a split face's centroid lies in the plane of every sub-triangle, its
+/// two apexes on one line through the centroid), which lets the split-face solve eliminate
+/// them one at a time (`split::force_single_unknowns`) instead of densely.
+pub(crate) fn snap_rounding_zeros(mut x: [f64; 4]) -> [f64; 4] {
+    let (big, largest) = x.iter().enumerate().fold((0, 0.0f64), |(bi, bv), (i, v)| {
+        if v.abs() > bv { (i, v.abs()) } else { (bi, bv) }
+    });
+    let mut moved = 0.0;
+    for (i, v) in x.iter_mut().enumerate() {
+        if i != big && *v != 0.0 && v.abs() <= ROUNDING_ZERO * largest {
+            moved += *v;
+            *v = 0.0;
+        }
+    }
+    x[big] += moved;
+    x
+}
+
 /// Value and Cartesian gradient at `x` of `poly + R` on `tet`, where `rational(τ)` returns R's
 /// value and formal partials `∂R/∂τ_i` (R homogeneous of degree 3, so the partials combine with
 /// the barycentric gradients like a polynomial's).

@@ -19,7 +19,7 @@
 //! `b t²` lifting for the single-sheet bound.
 
 use crate::cubic;
-use crate::geometry::{exact_barycentric, foot};
+use crate::geometry::{exact_barycentric, foot, snap_rounding_zeros};
 use crate::rowspace::RowBasis;
 use crate::{ApatchError, Quadric, VertexData};
 use algesurf_bb::{BbPoly, Tetrahedron, multi_index};
@@ -44,14 +44,6 @@ pub struct SplitFace {
     /// Largest violation of the hard constraints after the solve, relative to the size of
     /// the right-hand side: ~1e-14 when they are consistent.
     pub constraint_residual: f64,
-}
-
-/// Linear form of a coefficient of `poly_b` (on `b`) induced by `poly_a` (on `a`): weights
-/// `w_μ` with `coeff_B(λ) = Σ_μ w_μ x_A[μ]` = blossom of A at B's vertices (Lemma 2.2).
-/// `verts`: B's vertices in A's barycentric coordinates (`exact_barycentric`).
-fn continuation_weights(verts: &[[f64; 4]; 4], lambda: [usize; 4]) -> [f64; 20] {
-    let [x, y, z] = cubic::blossom_args(verts, lambda);
-    cubic::blossom_weights(x, y, z)
 }
 
 /// Sparse constraint rows `Σ w_j x_j = rhs`, stored flat (one allocation for all terms: a
@@ -90,22 +82,41 @@ impl System {
     }
 
     /// C0 and C1 between tetrahedra `ia` and `ib` (indices into `tets`), which share a face:
-    /// every coefficient of B with `λ_opp ≤ 1` equals A's continuation (Lemma 2.2).
+    /// every coefficient of B with `λ_opp ≤ 1` equals A's continuation (Lemma 2.2), the
+    /// blossom of A at B's vertices. The shared vertices are exact unit vectors in A's
+    /// coordinates (`exact_barycentric`), so the blossom needs no general weights: a C0 row
+    /// (`λ_opp = 0`) says that B's coefficient equals A's coefficient of the same shared
+    /// vertices' powers, and a C1 row (`λ_opp = 1`) is one de Casteljau step,
+    /// `b_λ = Σ_k v_k a_{μ + e_k}` with `μ` the shared part of `λ` in A's indexing and `v`
+    /// B's opposite vertex in A's coordinates (snapped, `snap_rounding_zeros`).
     fn join(&mut self, tets: &[Tetrahedron], ia: usize, ib: usize) {
         let (a, b) = (&tets[ia], &tets[ib]);
-        let opp = (0..4)
-            .find(|&s| !(0..4).any(|k| a.vertex(k) == b.vertex(s)))
+        // A's vertex index of each of B's vertices, `None` for the one not shared.
+        let shared: [Option<usize>; 4] =
+            std::array::from_fn(|s| (0..4).find(|&k| a.vertex(k) == b.vertex(s)));
+        let opp = shared
+            .iter()
+            .position(Option::is_none)
             .expect("the tetrahedra share a face");
-        let verts: [[f64; 4]; 4] = std::array::from_fn(|s| exact_barycentric(a, b.vertex(s)));
+        let v = snap_rounding_zeros(exact_barycentric(a, b.vertex(opp)));
         for lambda in multi_index::iter::<4>(3).filter(|l| l[opp] <= 1) {
-            let w = continuation_weights(&verts, lambda);
-            let terms = std::iter::once((ib * 20 + multi_index::rank(&lambda), 1.0)).chain(
-                w.iter()
-                    .enumerate()
-                    .filter(|(_, x)| **x != 0.0)
-                    .map(|(r, x)| (ia * 20 + r, -x)),
-            );
-            self.push(terms, 0.0);
+            let mut mu = [0usize; 4];
+            for (s, k) in shared.iter().enumerate() {
+                if let Some(k) = k {
+                    mu[*k] += lambda[s];
+                }
+            }
+            let row = (ib * 20 + multi_index::rank(&lambda), 1.0);
+            if lambda[opp] == 0 {
+                self.push([row, (ia * 20 + multi_index::rank(&mu), -1.0)], 0.0);
+            } else {
+                let terms = (0..4).filter(|&k| v[k] != 0.0).map(|k| {
+                    let mut up = mu;
+                    up[k] += 1;
+                    (ia * 20 + multi_index::rank(&up), -v[k])
+                });
+                self.push(std::iter::once(row).chain(terms), 0.0);
+            }
         }
     }
 }
@@ -127,84 +138,8 @@ impl SplitFace {
                 "a split face needs one or two apexes with one free parameter each".into(),
             ));
         }
-        let p = v.map(|x| x.position);
-        let c = (p[0] + p[1] + p[2]) / 3.0;
-        let mut tets = Vec::new();
-        for &apex in apexes {
-            for a in 0..3 {
-                let (b, cc) = ((a + 1) % 3, (a + 2) % 3);
-                tets.push(Tetrahedron::new([p[b], p[cc], c, apex])?);
-            }
-        }
-        let n = tets.len() * 20;
-        // Two apexes: 48 vertex, 12 mid-edge, 6 apex rows and 9 joins of 16 rows (C0 rows
-        // have 2 terms, C1 rows up to 21).
-        let mut sys = System::with_capacity(224, 2048);
-        for side in 0..apexes.len() {
-            let t0 = side * 3;
-            for a in 0..3 {
-                let ti = t0 + a;
-                let (b, cc) = ((a + 1) % 3, (a + 2) % 3);
-                // Vertex data (2.1) at p_b and p_c: local vertices 0 and 1.
-                for (local, vert) in [(0usize, b), (1usize, cc)] {
-                    let coeffs = algesurf_bb::continuity::vertex_coefficients(
-                        tets[ti].vertices(),
-                        3,
-                        local,
-                        0.0,
-                        v[vert].gradient,
-                        None,
-                    )?;
-                    for (l, val) in coeffs {
-                        sys.push([(ti * 20 + multi_index::rank(&l), 1.0)], val);
-                    }
-                }
-                // Mid-edge transversal gradient at m = (p_b + p_c)/2 in two directions.
-                let m = [0.5, 0.5, 0.0, 0.0];
-                let g = mid_gradients[a];
-                for d in [
-                    c - foot(c, p[b], p[cc]),
-                    apexes[side] - foot(apexes[side], p[b], p[cc]),
-                ] {
-                    let dir = tets[ti].barycentric_direction(d);
-                    // D_d F(m) = 3 b[d, m, m] (see `cubic`).
-                    let weights = cubic::blossom_weights(dir, m, m).map(|w| 3.0 * w);
-                    let terms = weights.iter().enumerate().filter(|(_, w)| **w != 0.0);
-                    sys.push(terms.map(|(r, w)| (ti * 20 + r, *w)), d.dot(g));
-                }
-                // Free parameter at the apex.
-                sys.push([(ti * 20 + 19, 1.0)], f[side]);
-            }
-            // C1 across the internal faces [p_v, c, apex] of this side.
-            for a in 0..3 {
-                sys.join(&tets, t0 + a, t0 + (a + 1) % 3);
-            }
-        }
-        // C1 across the sub-triangles of the face between the two sides.
-        if apexes.len() == 2 {
-            for a in 0..3 {
-                sys.join(&tets, a, 3 + a);
-            }
-        }
-        // Target: the local quadric family Q + (f − Q(apex)) τ_apex², per sub-tetrahedron
-        // (the quadric's blossom about the face centroid, see `Quadric::cubic_coefficients`).
-        let mut target = vec![0.0; n];
-        for (ti, tet) in tets.iter().enumerate() {
-            let side = ti / 3;
-            // The family of Theorem 4.2: Q + (f − Q(apex)) τ_apex²; τ_apex² is 1/3 on the
-            // layer λ_apex = 2 and 1 at the apex (`apex_square`).
-            let lift = f[side] - q.value(apexes[side]);
-            let mut coeffs = q.cubic_coefficients(tet, c);
-            for (l, x) in multi_index::iter::<4>(3).zip(coeffs.iter_mut()) {
-                match l[3] {
-                    2 => *x += lift / 3.0,
-                    3 => *x += lift,
-                    _ => {}
-                }
-            }
-            target[ti * 20..ti * 20 + 20].copy_from_slice(&coeffs);
-        }
-        let (x, residual) = nearest_solution(&sys, &target);
+        let (sys, target, tets) = constraints(v, apexes, mid_gradients, q, f)?;
+        let (x, residual) = nearest_solution(&sys, &target, true);
         let mut sides = Vec::new();
         for side in 0..apexes.len() {
             let polys = std::array::from_fn(|a| {
@@ -221,6 +156,148 @@ impl SplitFace {
     }
 }
 
+/// The hard constraints of [`SplitFace::new`], the target coefficients and the
+/// sub-tetrahedra (side after side, sub-tetrahedron `a` of a side carrying the edge
+/// `(p_{a+1}, p_{a+2})`).
+fn constraints(
+    v: [VertexData; 3],
+    apexes: &[DVec3],
+    mid_gradients: [DVec3; 3],
+    q: &Quadric,
+    f: &[f64],
+) -> Result<(System, Vec<f64>, Vec<Tetrahedron>), ApatchError> {
+    let p = v.map(|x| x.position);
+    let c = (p[0] + p[1] + p[2]) / 3.0;
+    let mut tets = Vec::new();
+    for &apex in apexes {
+        for a in 0..3 {
+            let (b, cc) = ((a + 1) % 3, (a + 2) % 3);
+            tets.push(Tetrahedron::new([p[b], p[cc], c, apex])?);
+        }
+    }
+    let n = tets.len() * 20;
+    // Two apexes: 48 vertex, 12 mid-edge, 6 apex rows and 9 joins of 16 rows (C0 rows
+    // have 2 terms, C1 rows up to 21).
+    let mut sys = System::with_capacity(224, 2048);
+    for side in 0..apexes.len() {
+        let t0 = side * 3;
+        for a in 0..3 {
+            let ti = t0 + a;
+            let (b, cc) = ((a + 1) % 3, (a + 2) % 3);
+            // Vertex data (2.1) at p_b and p_c: local vertices 0 and 1.
+            for (local, vert) in [(0usize, b), (1usize, cc)] {
+                let coeffs = algesurf_bb::continuity::vertex_coefficients(
+                    tets[ti].vertices(),
+                    3,
+                    local,
+                    0.0,
+                    v[vert].gradient,
+                    None,
+                )?;
+                for (l, val) in coeffs {
+                    sys.push([(ti * 20 + multi_index::rank(&l), 1.0)], val);
+                }
+            }
+            // Mid-edge transversal gradient at m = (p_b + p_c)/2 in two directions.
+            let m = [0.5, 0.5, 0.0, 0.0];
+            let g = mid_gradients[a];
+            for d in [
+                c - foot(c, p[b], p[cc]),
+                apexes[side] - foot(apexes[side], p[b], p[cc]),
+            ] {
+                let dir = snap_rounding_zeros(tets[ti].barycentric_direction(d));
+                // D_d F(m) = 3 b[d, m, m] (see `cubic`).
+                let weights = cubic::blossom_weights(dir, m, m).map(|w| 3.0 * w);
+                let terms = weights.iter().enumerate().filter(|(_, w)| **w != 0.0);
+                sys.push(terms.map(|(r, w)| (ti * 20 + r, *w)), d.dot(g));
+            }
+            // Free parameter at the apex.
+            sys.push([(ti * 20 + 19, 1.0)], f[side]);
+        }
+        // C1 across the internal faces [p_v, c, apex] of this side.
+        for a in 0..3 {
+            sys.join(&tets, t0 + a, t0 + (a + 1) % 3);
+        }
+    }
+    // C1 across the sub-triangles of the face between the two sides.
+    if apexes.len() == 2 {
+        for a in 0..3 {
+            sys.join(&tets, a, 3 + a);
+        }
+    }
+    // Target: the local quadric family Q + (f − Q(apex)) τ_apex², per sub-tetrahedron
+    // (the quadric's blossom about the face centroid, see `Quadric::cubic_coefficients`).
+    let mut target = vec![0.0; n];
+    for (ti, tet) in tets.iter().enumerate() {
+        let side = ti / 3;
+        // The family of Theorem 4.2: Q + (f − Q(apex)) τ_apex²; τ_apex² is 1/3 on the
+        // layer λ_apex = 2 and 1 at the apex (`apex_square`).
+        let lift = f[side] - q.value(apexes[side]);
+        let mut coeffs = q.cubic_coefficients(tet, c);
+        for (l, x) in multi_index::iter::<4>(3).zip(coeffs.iter_mut()) {
+            match l[3] {
+                2 => *x += lift / 3.0,
+                3 => *x += lift,
+                _ => {}
+            }
+        }
+        target[ti * 20..ti * 20 + 20].copy_from_slice(&coeffs);
+    }
+    Ok((sys, target, tets))
+}
+
+/// Smallest pivot, relative to the row's largest weight, with which a row that leaves a
+/// single free class forces it (see [`force_single_unknowns`]): 1e-3 bounds the growth of the
+/// row's rounding in the forced value by 10³; rows with a smaller pivot go to the dense solve,
+/// whose rank cut decides them.
+const FORCE_PIVOT: f64 = 1e-3;
+
+/// Rows of `rows` in which every unknown but those of one class `c` has a value (fixed itself
+/// or in a fixed class) force `c`'s value: every feasible point has it, so fixing it leaves
+/// the feasible set, and with it the nearest point, unchanged. Repeated until no row forces
+/// anything; the rows used are removed (rows left without a free unknown too: they are
+/// implied, and the final residual still checks them). The vertex data fix the coefficients
+/// next to the face's vertices, after which the mid-edge rows and most C1 rows near the face's
+/// edges force one coefficient each, so the dense solve is left with the coefficients about
+/// the centroid–apex axes.
+fn force_single_unknowns(
+    rows: &mut Vec<(&[(usize, f64)], f64)>,
+    class_of: &[usize],
+    fixed: &[Option<f64>],
+    class_fixed: &mut [Option<f64>],
+) {
+    loop {
+        let before = rows.len();
+        rows.retain(|&(terms, r)| {
+            let mut v = r;
+            let mut free: Option<(usize, f64)> = None;
+            let mut wmax = 0.0f64;
+            for &(j, w) in terms {
+                wmax = wmax.max(w.abs());
+                let c = class_of[j];
+                match (class_fixed[c], free) {
+                    (Some(x), _) => v -= w * fixed[j].unwrap_or(x),
+                    (None, None) => free = Some((c, w)),
+                    (None, Some((c0, w0))) if c0 == c => free = Some((c0, w0 + w)),
+                    // Two free classes: the row stays.
+                    (None, Some(_)) => return true,
+                }
+            }
+            match free {
+                None => false,
+                Some((c, w)) if w.abs() >= FORCE_PIVOT * wmax => {
+                    class_fixed[c] = Some(v / w);
+                    false
+                }
+                Some(_) => true,
+            }
+        });
+        if rows.len() == before {
+            return;
+        }
+    }
+}
+
 /// Representative of `j`'s class in the union–find forest `parent` (with path halving).
 fn find(parent: &mut [usize], mut j: usize) -> usize {
     while parent[j] != j {
@@ -234,13 +311,15 @@ fn find(parent: &mut [usize], mut j: usize) -> usize {
 /// and the largest violation of the rows relative to the size of the right-hand side and the
 /// target.
 ///
-/// Two kinds of rows are eliminated exactly before the least-squares solve, so they carry no
-/// solver rounding and the dense system is small (about 60 × 35 instead of 150 × 66 for two
-/// apexes):
+/// Three kinds of rows are eliminated exactly before the least-squares solve, so they carry no
+/// solver rounding and the dense system is small (6 × 8 instead of 150 × 66 for two apexes, on
+/// every one of the Stanford bunny's 54,039 split faces; 54 × 29 before the third kind):
 /// * rows with a single unknown (vertex data (2.1), the free parameters) fix it;
 /// * rows `x_i − x_j = 0` (the C0 rows of the joins: a coefficient on a shared facet is the
 ///   blossom of its neighbour at the facet's vertices, which `exact_barycentric` makes exact
-///   unit vectors, so the weights are exactly one 1) merge `i` and `j` into one unknown.
+///   unit vectors, so the weights are exactly one 1) merge `i` and `j` into one unknown;
+/// * rows that, once the first two kinds are in, leave a single free unknown force it, in
+///   cascade ([`force_single_unknowns`]).
 ///
 /// A class of merged unknowns that contains a fixed one takes its fixed value (the
 /// least-indexed one; fixed values in one class agree to rounding, which the residual shows).
@@ -250,7 +329,9 @@ fn find(parent: &mut [usize], mut j: usize) -> usize {
 /// `y = t̄ + W^{−1/2} z` it is the minimum-norm `z` of `A W^{−1/2} z = r − A t̄`, which
 /// [`RowBasis`] gives. In exact arithmetic this is the same point as the minimum-norm
 /// correction of all unknowns (the same objective on the same feasible set).
-fn nearest_solution(sys: &System, target: &[f64]) -> (Vec<f64>, f64) {
+///
+/// `cascade: false` skips the third kind of elimination (the tests compare the two).
+fn nearest_solution(sys: &System, target: &[f64], cascade: bool) -> (Vec<f64>, f64) {
     let n = target.len();
     let mut fixed: Vec<Option<f64>> = vec![None; n];
     let mut parent: Vec<usize> = (0..n).collect();
@@ -277,6 +358,15 @@ fn nearest_solution(sys: &System, target: &[f64]) -> (Vec<f64>, f64) {
             class_fixed[c] = fixed[j];
         }
     }
+    // Value of unknown j: fixed, or its class's.
+    let class_of: Vec<usize> = (0..n).map(|j| find(&mut parent, j)).collect();
+    let mut coupled: Vec<(&[(usize, f64)], f64)> = sys
+        .rows()
+        .filter(|(t, r)| t.len() > 1 && !is_equality(t, *r))
+        .collect();
+    if cascade {
+        force_single_unknowns(&mut coupled, &class_of, &fixed, &mut class_fixed);
+    }
     let mut col = vec![usize::MAX; n];
     let mut classes = Vec::new();
     for c in 0..n {
@@ -292,12 +382,6 @@ fn nearest_solution(sys: &System, target: &[f64]) -> (Vec<f64>, f64) {
         .map(|&c| 1.0 / (size[c] as f64).sqrt())
         .collect();
     let mean: Vec<f64> = classes.iter().map(|&c| tsum[c] / size[c] as f64).collect();
-    // Value of unknown j: fixed, or its class's.
-    let class_of: Vec<usize> = (0..n).map(|j| find(&mut parent, j)).collect();
-    let coupled: Vec<(&[(usize, f64)], f64)> = sys
-        .rows()
-        .filter(|(t, r)| t.len() > 1 && !is_equality(t, *r))
-        .collect();
     let m = coupled.len();
     // Dense row-major m × nf in the unknowns y (unscaled), and the reduced right-hand side.
     let mut a_mat = vec![0.0; m * nf];
@@ -355,4 +439,93 @@ fn nearest_solution(sys: &System, target: &[f64]) -> (Vec<f64>, f64) {
     );
     let size_of = amax(&mut sys.rhs.iter().copied()).max(amax(&mut target.iter().copied()));
     (x, worst / size_of.max(f64::MIN_POSITIVE))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A tiny deterministic generator (no external crates in unit tests).
+    struct Lcg(u64);
+    impl Lcg {
+        fn next(&mut self) -> f64 {
+            self.0 = self
+                .0
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (self.0 >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        }
+        fn vec(&mut self) -> DVec3 {
+            DVec3::new(self.next(), self.next(), self.next())
+        }
+    }
+
+    /// Forcing unknowns in cascade changes neither the feasible set nor the objective, so the
+    /// nearest point is the dense solve's, to rounding: for apexes on a slanted line and on
+    /// the normal through the centroid (the hull places them on one line through it, which
+    /// keeps the constraints consistent; the snapped zeros make the cascade reach far).
+    #[test]
+    fn cascade_elimination_gives_the_dense_solution() {
+        let mut rng = Lcg(7);
+        let mut worst = 0.0f64;
+        for case in 0..40 {
+            let p = [
+                DVec3::new(0.0, 0.0, 0.0),
+                DVec3::new(1.0, 0.1, 0.0),
+                DVec3::new(0.3, 0.9, 0.0),
+            ]
+            .map(|x| x + 0.2 * rng.vec() + DVec3::splat(3.0));
+            let normal = (p[1] - p[0]).cross(p[2] - p[0]).normalize();
+            let c = (p[0] + p[1] + p[2]) / 3.0;
+            let axis = (normal + 0.3 * rng.vec()).normalize();
+            let (u, w) = if case % 2 == 0 {
+                (c + 0.4 * axis, c - 0.3 * axis)
+            } else {
+                (c + 0.2 * normal, c - 0.7 * normal)
+            };
+            let grads = [0, 1, 2].map(|_| normal + 0.4 * rng.vec());
+            let v = [0, 1, 2].map(|a| VertexData {
+                position: p[a],
+                gradient: grads[a],
+            });
+            let mids = [0, 1, 2].map(|a| (grads[(a + 1) % 3] + grads[(a + 2) % 3]) * 0.5);
+            let q = Quadric {
+                a: glam::DMat3::from_diagonal(DVec3::new(0.3, -0.2, 0.5)),
+                b: normal,
+                c: -normal.dot(c),
+            };
+            let f = [q.value(u) + 0.05, q.value(w) - 0.05];
+            let (sys, target, _) = constraints(v, &[u, w], mids, &q, &f).unwrap();
+            let (fast, r_fast) = nearest_solution(&sys, &target, true);
+            let (dense, r_dense) = nearest_solution(&sys, &target, false);
+            assert!(
+                r_fast < 1e-12 && r_dense < 1e-12,
+                "case {case}: {r_fast:e} {r_dense:e}"
+            );
+            let size = dense.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            let diff = fast
+                .iter()
+                .zip(&dense)
+                .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+            worst = worst.max(diff / size);
+        }
+        assert!(worst < 1e-11, "largest relative difference {worst:e}");
+    }
+
+    #[test]
+    fn rounding_zeros_are_snapped_and_the_total_kept() {
+        let x = snap_rounding_zeros([-1.0, -1.0 + 1e-16, 3.0, 3e-16]);
+        assert_eq!(x[3], 0.0);
+        assert_eq!(
+            x,
+            [-1.0, -1.0 + 1e-16, 3.0 + 3e-16, 0.0],
+            "moved onto the largest"
+        );
+        let d = snap_rounding_zeros([0.5, -0.25, -0.25, 1e-9]);
+        assert_eq!(
+            d,
+            [0.5, -0.25, -0.25, 1e-9],
+            "1e-9 is geometry, not rounding"
+        );
+    }
 }
