@@ -346,6 +346,9 @@ fn cell_minima(layers: &[BbPoly<f64, 3>; 4], corners: &[[f64; 3]; 3]) -> [f64; 4
 /// upwards, so the computed value is at least the exact one.) `b_min^(2)` is *not* monotone
 /// (its feasible set `F_1 ≤ 0` grows as the coefficients fall), which is why the certified
 /// bound is on `b_min^(1)`: any `b > b_min^(1)` satisfies Lemma 2.3 on its own.
+///
+/// Public as [`b_min_1_upper_from_minima`] for callers that hold the whole triangle's layer
+/// coefficients already (its own BB coefficients are the root cell's minima).
 fn cell_upper(m: [f64; 4]) -> f64 {
     if m[0] >= 0.0 {
         // b_0 ≥ 0 on the whole cell: every ray starts on or beyond the surface (t = 0).
@@ -356,6 +359,22 @@ fn cell_upper(m: [f64; 4]) -> f64 {
         // Only non-finite coefficients get here (b_0 < 0 and β = 1 are checked): no bound.
         Err(_) => f64::INFINITY,
     }
+}
+
+/// The bound the branch and bound of [`certified_triangle_b_min_below`] gives a cell from the
+/// least BB coefficients `m[k]` of its layers `k = 0..3` (see there): `−∞` when `m[0] ≥ 0`,
+/// else Lemma 2.3's `b_min^(1)` of `m`, rounded upwards, which bounds `b_min^(1)` from above
+/// at every point of the cell; `+∞` for non-finite `m`. For the whole triangle `m` is each
+/// layer's least coefficient, and this is the value at which
+/// [`certified_triangle_b_min_below`] stops when it is `≤ enough`, bit for bit.
+///
+/// ```
+/// use algesurf_bb::sheet::b_min_1_upper_from_minima;
+/// assert_eq!(b_min_1_upper_from_minima([0.5, -1.0, -1.0, -1.0]), f64::NEG_INFINITY);
+/// assert!(b_min_1_upper_from_minima([-1.0, -1.0, -1.0, -1.0]) > 0.0);
+/// ```
+pub fn b_min_1_upper_from_minima(m: [f64; 4]) -> f64 {
+    cell_upper(m)
 }
 
 /// Certified maximum over a triangle of the Lemma 2.3 bound `b_min^(1)` of the shooting

@@ -17,10 +17,19 @@ enum Kind {
     Inner(usize, usize),
 }
 
-/// A median-split AABB tree.
+/// An AABB tree over boxes in Morton order (a linear BVH: Lauterbach et al., "Fast BVH
+/// Construction on GPUs", 2009). Sorting the box centres along the Z-order curve and splitting
+/// each range where its codes first differ builds the tree in one sort and one linear pass,
+/// instead of a selection per level over randomly placed boxes; the splits are spatial
+/// midpoints (octree cells), which for a surface's tetrahedra give boxes as tight as median
+/// splits do. Rebuilt every refinement round over 350 k tetrahedra (the bunny), the build cost
+/// 150 ms with median splits.
 pub(crate) struct Bvh {
     boxes: Vec<(DVec3, DVec3)>,
+    /// Box ids in Morton order; leaves are ranges of it.
     order: Vec<u32>,
+    /// Morton code of `order[k]`.
+    codes: Vec<u64>,
     nodes: Vec<Node>,
 }
 
@@ -28,13 +37,52 @@ fn overlaps(a: &(DVec3, DVec3), lo: DVec3, hi: DVec3) -> bool {
     a.0.cmple(hi).all() && lo.cmple(a.1).all()
 }
 
+/// Bits per axis of a Morton code: 21 × 3 fit in a `u64`.
+const MORTON_BITS: u32 = 21;
+
+/// `x`'s low 21 bits spread to every third bit.
+fn spread(x: u64) -> u64 {
+    let mut x = x & 0x1f_ffff;
+    x = (x | (x << 32)) & 0x1f_0000_0000_ffff;
+    x = (x | (x << 16)) & 0x1f_0000_ff00_00ff;
+    x = (x | (x << 8)) & 0x100f_00f0_0f00_f00f;
+    x = (x | (x << 4)) & 0x10c3_0c30_c30c_30c3;
+    x = (x | (x << 2)) & 0x1249_2492_4924_9249;
+    x
+}
+
 impl Bvh {
     /// Builds the tree over `boxes` (`(min, max)` corners).
     pub(crate) fn new(boxes: Vec<(DVec3, DVec3)>) -> Bvh {
+        let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+        for (a, b) in &boxes {
+            let c = (*a + *b) * 0.5;
+            lo = lo.min(c);
+            hi = hi.max(c);
+        }
+        let cells = ((1u64 << MORTON_BITS) - 1) as f64;
+        // Zero extents (all centres on a plane) give a zero scale, not a division by zero.
+        let scale = (hi - lo)
+            .to_array()
+            .map(|e| if e > 0.0 { cells / e } else { 0.0 });
+        let code = |(a, b): &(DVec3, DVec3)| -> u64 {
+            let c = ((*a + *b) * 0.5 - lo).to_array();
+            // Non-finite boxes (never built by the hull) land in cell 0 (`as` saturates).
+            let q = |k: usize| ((c[k] * scale[k]) as u64).min(cells as u64);
+            spread(q(0)) | (spread(q(1)) << 1) | (spread(q(2)) << 2)
+        };
+        let mut keyed: Vec<(u64, u32)> = boxes
+            .iter()
+            .enumerate()
+            .map(|(i, b)| (code(b), i as u32))
+            .collect();
+        // Ties broken by id: the tree, and every traversal order, is deterministic.
+        keyed.sort_unstable();
         let mut b = Bvh {
-            order: (0..boxes.len() as u32).collect(),
+            order: keyed.iter().map(|k| k.1).collect(),
+            codes: keyed.iter().map(|k| k.0).collect(),
             boxes,
-            nodes: Vec::new(),
+            nodes: Vec::with_capacity(2 * keyed.len() / LEAF + 1),
         };
         if !b.boxes.is_empty() {
             b.build(0, b.order.len());
@@ -42,82 +90,250 @@ impl Bvh {
         b
     }
 
+    /// Builds the subtree over `order[start..end]` and returns its node: parents are pushed
+    /// before their children, bounds filled in after them.
     fn build(&mut self, start: usize, end: usize) -> usize {
-        let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
-        for &i in &self.order[start..end] {
-            lo = lo.min(self.boxes[i as usize].0);
-            hi = hi.max(self.boxes[i as usize].1);
-        }
         let id = self.nodes.len();
         self.nodes.push(Node {
-            lo,
-            hi,
+            lo: DVec3::INFINITY,
+            hi: DVec3::NEG_INFINITY,
             kind: Kind::Leaf(start, end),
         });
-        if end - start > LEAF {
-            let ext = hi - lo;
-            let axis = if ext.x >= ext.y && ext.x >= ext.z {
-                0
-            } else if ext.y >= ext.z {
-                1
-            } else {
-                2
-            };
-            let mid = (start + end) / 2;
-            let boxes = &self.boxes;
-            let centre = |i: &u32| {
-                let (a, b) = boxes[*i as usize];
-                (a[axis] + b[axis]) * 0.5
-            };
-            self.order[start..end]
-                .select_nth_unstable_by(mid - start, |x, y| centre(x).total_cmp(&centre(y)));
+        let (lo, hi) = if end - start > LEAF {
+            let mid = self.split(start, end);
             let l = self.build(start, mid);
             let r = self.build(mid, end);
             self.nodes[id].kind = Kind::Inner(l, r);
-        }
+            let (a, b) = (&self.nodes[l], &self.nodes[r]);
+            (a.lo.min(b.lo), a.hi.max(b.hi))
+        } else {
+            let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+            for &i in &self.order[start..end] {
+                lo = lo.min(self.boxes[i as usize].0);
+                hi = hi.max(self.boxes[i as usize].1);
+            }
+            (lo, hi)
+        };
+        self.nodes[id].lo = lo;
+        self.nodes[id].hi = hi;
         id
     }
 
-    /// Calls `f(j)` for every box `j ≠ i` that intersects box `i` (closed boxes) and that
-    /// `keep` accepts, in the tree's order: a query per box, so callers can run the boxes in
-    /// parallel.
-    pub(crate) fn overlapping(
-        &self,
-        i: usize,
-        keep: impl Fn(usize) -> bool,
-        mut f: impl FnMut(u32),
-    ) {
-        if self.nodes.is_empty() {
-            return;
+    /// Where `order[start..end]` (more than one box) splits: the first position whose code
+    /// has the highest bit in which the range's codes differ set; the middle when they are all
+    /// equal (boxes with one centre cell).
+    fn split(&self, start: usize, end: usize) -> usize {
+        let (first, last) = (self.codes[start], self.codes[end - 1]);
+        if first == last {
+            return (start + end) / 2;
         }
-        let bx = &self.boxes[i];
-        let mut stack = vec![0usize];
-        while let Some(n) = stack.pop() {
-            let node = &self.nodes[n];
-            if !overlaps(bx, node.lo, node.hi) {
-                continue;
+        let bit = 63 - (first ^ last).leading_zeros();
+        let prefix = first >> bit;
+        // Codes are sorted: those sharing `first`'s prefix down to `bit` come first.
+        start + self.codes[start..end].partition_point(|&c| c >> bit == prefix)
+    }
+
+    /// Every unordered pair `(i, j)`, `i < j`, of intersecting boxes (closed boxes) of which
+    /// at least one is `marked` (all boxes for `None`), mapped through `f` (pairs where it
+    /// gives `None` are dropped), in no particular order.
+    ///
+    /// A simultaneous traversal of the tree with itself (a self-join): a pair of nodes whose
+    /// boxes are disjoint, or that hold no marked box, is skipped whole, and every pair of
+    /// leaves is reached along exactly one path, so every pair of boxes is tested once (a
+    /// query per box tests it twice and walks from the root each time). The first levels
+    /// run in parallel (`rayon::join`).
+    pub(crate) fn pairs<T: Send>(
+        &self,
+        marked: Option<&[bool]>,
+        f: impl Fn(u32, u32) -> Option<T> + Sync,
+    ) -> Vec<T> {
+        if self.nodes.is_empty() {
+            return Vec::new();
+        }
+        let mut has_marked = vec![true; self.nodes.len()];
+        if let Some(m) = marked {
+            // Children come after their parent in `nodes`: one backward pass.
+            for n in (0..self.nodes.len()).rev() {
+                has_marked[n] = match self.nodes[n].kind {
+                    Kind::Leaf(s, e) => self.order[s..e].iter().any(|&j| m[j as usize]),
+                    Kind::Inner(l, r) => has_marked[l] || has_marked[r],
+                };
             }
-            match node.kind {
-                Kind::Leaf(s, e) => {
-                    for &j in &self.order[s..e] {
-                        if j as usize != i
-                            && keep(j as usize)
-                            && overlaps(bx, self.boxes[j as usize].0, self.boxes[j as usize].1)
-                        {
-                            f(j);
-                        }
+        }
+        let join = Join {
+            bvh: self,
+            marked,
+            has_marked: &has_marked,
+            f: &f,
+        };
+        join.within(0, 0)
+    }
+}
+
+/// The state of [`Bvh::pairs`].
+struct Join<'a, F> {
+    bvh: &'a Bvh,
+    marked: Option<&'a [bool]>,
+    /// Per node: does it hold a marked box.
+    has_marked: &'a [bool],
+    f: &'a F,
+}
+
+/// Node depth down to which [`Join`] forks: 2^8 tasks are plenty for any thread count here,
+/// and below it a subtree's work is too small to be worth a task.
+const PARALLEL_DEPTH: usize = 8;
+
+impl<'a, T: Send, F: Fn(u32, u32) -> Option<T> + Sync> Join<'a, F> {
+    fn is_marked(&self, j: u32) -> bool {
+        self.marked.is_none_or(|m| m[j as usize])
+    }
+
+    /// Pairs of two boxes in node `n`.
+    fn within(&self, n: usize, depth: usize) -> Vec<T> {
+        if !self.has_marked[n] {
+            return Vec::new();
+        }
+        match self.bvh.nodes[n].kind {
+            Kind::Leaf(s, e) => {
+                let mut out = Vec::new();
+                let order = &self.bvh.order[s..e];
+                for (k, &i) in order.iter().enumerate() {
+                    for &j in &order[k + 1..] {
+                        self.test(i, j, &mut out);
                     }
                 }
-                Kind::Inner(l, r) => {
-                    stack.push(l);
-                    stack.push(r);
+                out
+            }
+            Kind::Inner(l, r) => {
+                let (mut a, (b, c)) = self.fork(
+                    depth,
+                    || self.within(l, depth + 1),
+                    || {
+                        self.fork(
+                            depth,
+                            || self.within(r, depth + 1),
+                            || self.across(l, r, depth + 1),
+                        )
+                    },
+                );
+                a.extend(b);
+                a.extend(c);
+                a
+            }
+        }
+    }
+
+    /// Pairs of a box in node `a` and one in node `b` (disjoint subtrees).
+    fn across(&self, a: usize, b: usize, depth: usize) -> Vec<T> {
+        let (na, nb) = (&self.bvh.nodes[a], &self.bvh.nodes[b]);
+        if !(self.has_marked[a] || self.has_marked[b]) || !overlaps(&(na.lo, na.hi), nb.lo, nb.hi) {
+            return Vec::new();
+        }
+        match (&na.kind, &nb.kind) {
+            (Kind::Leaf(sa, ea), Kind::Leaf(sb, eb)) => {
+                let mut out = Vec::new();
+                for &i in &self.bvh.order[*sa..*ea] {
+                    for &j in &self.bvh.order[*sb..*eb] {
+                        self.test(i, j, &mut out);
+                    }
+                }
+                out
+            }
+            // Descend the inner node, the larger box when both are inner.
+            (Kind::Inner(l, r), Kind::Leaf(..)) => self.both(*l, b, *r, b, depth),
+            (Kind::Leaf(..), Kind::Inner(l, r)) => self.both(a, *l, a, *r, depth),
+            (Kind::Inner(al, ar), Kind::Inner(bl, br)) => {
+                if (na.hi - na.lo).length_squared() >= (nb.hi - nb.lo).length_squared() {
+                    self.both(*al, b, *ar, b, depth)
+                } else {
+                    self.both(a, *bl, a, *br, depth)
                 }
             }
         }
     }
 
-    /// Number of boxes.
-    pub(crate) fn len(&self) -> usize {
-        self.boxes.len()
+    fn both(&self, a0: usize, b0: usize, a1: usize, b1: usize, depth: usize) -> Vec<T> {
+        let (mut x, y) = self.fork(
+            depth,
+            || self.across(a0, b0, depth + 1),
+            || self.across(a1, b1, depth + 1),
+        );
+        x.extend(y);
+        x
+    }
+
+    fn fork<A: Send, B: Send>(
+        &self,
+        depth: usize,
+        a: impl FnOnce() -> A + Send,
+        b: impl FnOnce() -> B + Send,
+    ) -> (A, B) {
+        if depth < PARALLEL_DEPTH {
+            rayon::join(a, b)
+        } else {
+            (a(), b())
+        }
+    }
+
+    fn test(&self, i: u32, j: u32, out: &mut Vec<T>) {
+        let (bi, bj) = (&self.bvh.boxes[i as usize], &self.bvh.boxes[j as usize]);
+        if (self.is_marked(i) || self.is_marked(j)) && overlaps(bi, bj.0, bj.1) {
+            let (lo, hi) = (i.min(j), i.max(j));
+            if let Some(x) = (self.f)(lo, hi) {
+                out.push(x);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn morton_spread_puts_bit_k_at_bit_3k() {
+        assert_eq!(spread(0b111), 0b1001001);
+        assert_eq!(spread(1 << 20), 1 << 60);
+        assert_eq!(spread(u64::MAX), 0x1249_2492_4924_9249);
+    }
+
+    /// The self-join finds exactly the intersecting pairs that brute force finds, each once,
+    /// with and without marks.
+    #[test]
+    fn self_join_finds_every_intersecting_pair_once() {
+        let mut state = 12345u64;
+        let mut next = || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let boxes: Vec<(DVec3, DVec3)> = (0..700)
+            .map(|_| {
+                let lo = DVec3::new(next(), next(), next()) * 10.0;
+                (lo, lo + DVec3::new(next(), next(), next()))
+            })
+            .collect();
+        let marked: Vec<bool> = (0..boxes.len()).map(|i| i % 3 == 0).collect();
+        let bvh = Bvh::new(boxes.clone());
+        for marks in [None, Some(&marked[..])] {
+            let mut found = bvh.pairs(marks, |i, j| Some((i, j)));
+            found.sort_unstable();
+            let mut expected = Vec::new();
+            for i in 0..boxes.len() {
+                for j in i + 1..boxes.len() {
+                    let wanted = marks.is_none_or(|m| m[i] || m[j]);
+                    if wanted && overlaps(&boxes[i], boxes[j].0, boxes[j].1) {
+                        expected.push((i as u32, j as u32));
+                    }
+                }
+            }
+            assert!(
+                expected.len() > 100,
+                "the test needs pairs: {}",
+                expected.len()
+            );
+            assert_eq!(found, expected);
+        }
     }
 }

@@ -16,13 +16,9 @@ use rayon::prelude::*;
 use std::collections::HashMap;
 use std::collections::HashSet;
 
-/// A tetrahedron's identity across refinement rounds: its side and its vertices' bits.
-type TetKey = (bool, [u64; 12]);
-
-/// Hashing for [`TetKey`]s: the keys are float bit patterns, not attacker-chosen, so the
-/// default SipHash's DoS resistance buys nothing, and at 280 k keys per round (the bunny) it
-/// cost more than the intersection tests. Multiply–rotate mixing per word (the `FxHash`
-/// scheme of rustc); equality is still decided on the whole key.
+/// Hashing for [`ElementKeys`]: the keys are vertex ids, not attacker-chosen, so the default
+/// SipHash's DoS resistance buys nothing. Multiply–rotate mixing per word (the `FxHash` scheme
+/// of rustc); equality is still decided on the whole key.
 #[derive(Default, Clone, Copy)]
 struct WordHasher(u64);
 
@@ -40,6 +36,9 @@ impl std::hash::Hasher for WordHasher {
     fn write_u64(&mut self, w: u64) {
         self.0 = (self.0.rotate_left(5) ^ w).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
     }
+    fn write_u32(&mut self, w: u32) {
+        self.write_u64(w as u64);
+    }
     fn write_u8(&mut self, w: u8) {
         self.write_u64(w as u64);
     }
@@ -48,16 +47,48 @@ impl std::hash::Hasher for WordHasher {
     }
 }
 
-type TetSet = HashSet<TetKey, std::hash::BuildHasherDefault<WordHasher>>;
+type WordSet<K> = HashSet<K, std::hash::BuildHasherDefault<WordHasher>>;
 
-fn tet_key(t: &HullTetrahedron) -> TetKey {
-    let mut bits = [0u64; 12];
-    for (k, v) in t.vertices.iter().enumerate() {
-        bits[3 * k] = v.x.to_bits();
-        bits[3 * k + 1] = v.y.to_bits();
-        bits[3 * k + 2] = v.z.to_bits();
+/// What decides an element's tetrahedra, so that an element with the same key in two rounds
+/// has bit-identical tetrahedra: a face's corners in their stored order (its apexes come from
+/// [`ApexCache`] under that key, its classification from its corners' positions and normals,
+/// which refinement never changes), an edge's two vertices and its two faces' keys (its
+/// tetrahedra join those faces' apexes).
+#[derive(Default)]
+struct ElementKeys {
+    faces: WordSet<[u32; 3]>,
+    edges: WordSet<[u32; 8]>,
+}
+
+impl ElementKeys {
+    fn edge_key(faces: &[HullFace], e: &HullEdge) -> Option<[u32; 8]> {
+        let l = faces[e.face_l? as usize].vertices;
+        let k = faces[e.face_k as usize].vertices;
+        let [i, j] = e.vertices;
+        Some([i, j, k[0], k[1], k[2], l[0], l[1], l[2]])
     }
-    (t.side == Side::Positive, bits)
+
+    fn of(faces: &[HullFace], edges: &[HullEdge]) -> ElementKeys {
+        ElementKeys {
+            faces: faces.iter().map(|f| f.vertices).collect(),
+            edges: edges
+                .iter()
+                .filter_map(|e| Self::edge_key(faces, e))
+                .collect(),
+        }
+    }
+
+    /// Per tetrahedron of `tets` (of the hull with `faces`, `edges`): is its element new
+    /// since the round these keys are of.
+    fn fresh(&self, faces: &[HullFace], edges: &[HullEdge], tets: &[HullTetrahedron]) -> Vec<bool> {
+        tets.par_iter()
+            .map(|t| match t.element {
+                Element::Face(f) => !self.faces.contains(&faces[f as usize].vertices),
+                Element::Edge(e) => Self::edge_key(faces, &edges[e as usize])
+                    .is_none_or(|k| !self.edges.contains(&k)),
+            })
+            .collect()
+    }
 }
 
 /// The mesh element a hull tetrahedron belongs to (ids of the possibly refined mesh).
@@ -249,7 +280,7 @@ impl SimplicialHull {
         // The error to report if a refinement round makes the hull invalid.
         let mut pending: Option<HullError> = None;
         // The previous round's tetrahedra (see `intersections_involving`).
-        let mut checked = TetSet::default();
+        let mut checked = ElementKeys::default();
         let mut apexes = ApexCache::new();
         loop {
             let built = build_faces_edges(
@@ -300,13 +331,9 @@ impl SimplicialHull {
             let hits: Vec<Intersection> = if options.check_intersections {
                 let component = hull.face_components();
                 let tets = hull.tetrahedra();
-                let keys: TetSet = tets.iter().map(tet_key).collect();
-                let fresh: Option<Vec<bool>> = (round > first_round).then(|| {
-                    tets.iter()
-                        .map(|t| !checked.contains(&tet_key(t)))
-                        .collect()
-                });
-                checked = keys;
+                let fresh: Option<Vec<bool>> =
+                    (round > first_round).then(|| checked.fresh(&hull.faces, &hull.edges, &tets));
+                checked = ElementKeys::of(&hull.faces, &hull.edges);
                 hull.intersections_involving(&tets, fresh.as_deref())
                     .into_iter()
                     .filter(|h| !hull.unremovable(&component, &zone, &state.face_map, h))
@@ -577,11 +604,13 @@ impl SimplicialHull {
     /// involve at least one tetrahedron marked in `fresh` (all pairs for `None`), ordered by
     /// the pair's indices in `tets`.
     ///
-    /// Refinement rounds check only the new tetrahedra: a tetrahedron whose four vertices are
-    /// bit-identical to one of the previous round's is the same tetrahedron (apexes depend
-    /// only on their face's corners and normals, which a split of another face leaves
-    /// alone), and every pair of two such was checked then and did not overlap — had it
-    /// overlapped, its faces would have been bisected, changing both tetrahedra.
+    /// Refinement rounds check only the new tetrahedra: those of an element whose
+    /// [`ElementKeys`] key was in the previous round's hull are bit-identical to that round's
+    /// (apexes depend only on their face's corners and normals, which a split of another face
+    /// leaves alone), and every pair of two such was checked then and did not overlap — had
+    /// it overlapped, its faces would have been bisected, changing both keys (overlaps left
+    /// alone as the input's are reported by [`SimplicialHull::distant_intersections`], which
+    /// checks every pair).
     fn intersections_involving(
         &self,
         tets: &[HullTetrahedron],
@@ -599,30 +628,12 @@ impl SimplicialHull {
             })
             .collect();
         let bvh = Bvh::new(boxes);
-        let is_fresh = |i: usize| fresh.is_none_or(|f| f[i]);
-        // One BVH query per fresh tetrahedron, in parallel. A pair of two fresh ones is taken
-        // by the query of its smaller index, a fresh–old pair by the fresh one's query.
-        let mut pairs: Vec<(u32, u32, f64)> = (0..bvh.len())
-            .into_par_iter()
-            .filter(|&i| is_fresh(i))
-            .flat_map_iter(|i| {
-                let mut found = Vec::new();
-                bvh.overlapping(
-                    i,
-                    |j| j > i || !is_fresh(j),
-                    |j| {
-                        let (a, b) = (&tets[i], &tets[j as usize]);
-                        let tol = self.options.overlap_tolerance;
-                        let depth = depth_until(&a.vertices, &b.vertices, tol);
-                        if depth > tol {
-                            let (lo, hi) = (i.min(j as usize) as u32, i.max(j as usize) as u32);
-                            found.push((lo, hi, depth));
-                        }
-                    },
-                );
-                found
-            })
-            .collect();
+        // One self-join of the tree, in parallel; every pair tested once.
+        let tol = self.options.overlap_tolerance;
+        let mut pairs: Vec<(u32, u32, f64)> = bvh.pairs(fresh, |i, j| {
+            let depth = depth_until(&tets[i as usize].vertices, &tets[j as usize].vertices, tol);
+            (depth > tol).then_some((i, j, depth))
+        });
         // Sorting makes the list (and the refinement driven by it) independent of the thread
         // count and of which tetrahedra were fresh.
         pairs.sort_unstable_by_key(|&(a, b, _)| (a, b));
