@@ -68,6 +68,53 @@ const fn up_table<const M: usize>(n: usize) -> [[usize; 4]; M] {
 const UP3: [[usize; 4]; 10] = up_table::<10>(3);
 const UP2: [[usize; 4]; 4] = up_table::<4>(2);
 
+/// `RANK3[λ_0][λ_1][λ_2]`: the rank of the degree-3 index `(λ_0, λ_1, λ_2, 3 − λ_0 − λ_1 − λ_2)`
+/// (entries with `λ_0 + λ_1 + λ_2 > 3` unused).
+const RANK3: [[[usize; 4]; 4]; 4] = {
+    let mut t = [[[0usize; 4]; 4]; 4];
+    let mut a = 0;
+    while a <= 3 {
+        let mut b = 0;
+        while a + b <= 3 {
+            let mut c = 0;
+            while a + b + c <= 3 {
+                t[a][b][c] = rank([a, b, c, 3 - a - b - c], 3);
+                c += 1;
+            }
+            b += 1;
+        }
+        a += 1;
+    }
+    t
+};
+
+/// The 20 multi-indices of degree 3 in storage order (`INDICES3[rank3(l)] == l`): a table
+/// for the hot loops, which `algesurf_bb::multi_index::iter` would walk by successor steps.
+pub(crate) const INDICES3: [[usize; 4]; 20] = {
+    let mut t = [[0usize; 4]; 20];
+    let mut a = 0;
+    while a <= 3 {
+        let mut b = 0;
+        while a + b <= 3 {
+            let mut c = 0;
+            while a + b + c <= 3 {
+                t[RANK3[a][b][c]] = [a, b, c, 3 - a - b - c];
+                c += 1;
+            }
+            b += 1;
+        }
+        a += 1;
+    }
+    t
+};
+
+/// Rank of a degree-3 multi-index in storage order (the same as
+/// `algesurf_bb::multi_index::rank`, by table).
+#[inline]
+pub(crate) fn rank3(l: [usize; 4]) -> usize {
+    RANK3[l[0]][l[1]][l[2]]
+}
+
 /// The 20 BB coefficients of a cubic on a tetrahedron.
 pub(crate) type Coeffs = [f64; 20];
 
@@ -245,6 +292,15 @@ pub(crate) fn blossom_args(verts: &[[f64; 4]; 4], lambda: [usize; 4]) -> [[f64; 
 mod tests {
     use super::*;
     use algesurf_bb::{BbPoly, multi_index};
+
+    #[test]
+    fn index_tables_are_the_storage_order() {
+        let order: Vec<[usize; 4]> = multi_index::iter::<4>(3).collect();
+        assert_eq!(order, INDICES3.to_vec());
+        for l in order {
+            assert_eq!(rank3(l), multi_index::rank(&l));
+        }
+    }
 
     fn sample() -> BbPoly<f64, 4> {
         BbPoly::from_fn(3, |l| {

@@ -60,7 +60,7 @@ impl Quadric {
             }
         }
         let mut out = [0.0; 20];
-        for (l, x) in algesurf_bb::multi_index::iter::<4>(3).zip(out.iter_mut()) {
+        for (l, x) in crate::cubic::INDICES3.iter().zip(out.iter_mut()) {
             let mut args = [0usize; 3];
             let mut n = 0;
             for (s, &times) in l.iter().enumerate() {

@@ -22,7 +22,6 @@
 //! maximum, kept for comparison.
 
 use algesurf_bb::BbPoly;
-use algesurf_bb::multi_index;
 use algesurf_bb::sheet::{
     b_min_1_upper_from_minima, certified_triangle_b_min_below, lemma_2_3_b_min,
 };
@@ -191,7 +190,7 @@ pub fn certified_face_bound(
     // the root — as it does for 339,642 of the bunny's 339,854 face bounds.
     if poly.degree() == 3 && poly.coeffs().len() == 20 {
         let mut minima = [f64::INFINITY; 4];
-        for (l, &c) in multi_index::iter::<4>(3).zip(poly.coeffs()) {
+        for (&l, &c) in crate::cubic::INDICES3.iter().zip(poly.coeffs()) {
             let k = l[3];
             let mut v = sign * (c - off[k]);
             if let (Some(low), [1, 1, 1, 0]) = (low, l) {

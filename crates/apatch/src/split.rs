@@ -22,7 +22,7 @@ use crate::cubic;
 use crate::geometry::{exact_barycentric, foot, snap_rounding_zeros};
 use crate::rowspace::RowBasis;
 use crate::{ApatchError, Quadric, VertexData};
-use algesurf_bb::{BbPoly, Tetrahedron, multi_index};
+use algesurf_bb::{BbPoly, Tetrahedron};
 use glam::DVec3;
 
 /// One side (apex) of a split face: three cubics on `[p_b, p_c, c, apex]`, `a` = 0, 1, 2 the
@@ -99,21 +99,21 @@ impl System {
             .position(Option::is_none)
             .expect("the tetrahedra share a face");
         let v = snap_rounding_zeros(exact_barycentric(a, b.vertex(opp)));
-        for lambda in multi_index::iter::<4>(3).filter(|l| l[opp] <= 1) {
+        for lambda in cubic::INDICES3.into_iter().filter(|l| l[opp] <= 1) {
             let mut mu = [0usize; 4];
             for (s, k) in shared.iter().enumerate() {
                 if let Some(k) = k {
                     mu[*k] += lambda[s];
                 }
             }
-            let row = (ib * 20 + multi_index::rank(&lambda), 1.0);
+            let row = (ib * 20 + cubic::rank3(lambda), 1.0);
             if lambda[opp] == 0 {
-                self.push([row, (ia * 20 + multi_index::rank(&mu), -1.0)], 0.0);
+                self.push([row, (ia * 20 + cubic::rank3(mu), -1.0)], 0.0);
             } else {
                 let terms = (0..4).filter(|&k| v[k] != 0.0).map(|k| {
                     let mut up = mu;
                     up[k] += 1;
-                    (ia * 20 + multi_index::rank(&up), -v[k])
+                    (ia * 20 + cubic::rank3(up), -v[k])
                 });
                 self.push(std::iter::once(row).chain(terms), 0.0);
             }
@@ -195,7 +195,7 @@ fn constraints(
                     None,
                 )?;
                 for (l, val) in coeffs {
-                    sys.push([(ti * 20 + multi_index::rank(&l), 1.0)], val);
+                    sys.push([(ti * 20 + cubic::rank3(l), 1.0)], val);
                 }
             }
             // Mid-edge transversal gradient at m = (p_b + p_c)/2 in two directions.
@@ -234,7 +234,7 @@ fn constraints(
         // layer λ_apex = 2 and 1 at the apex (`apex_square`).
         let lift = f[side] - q.value(apexes[side]);
         let mut coeffs = q.cubic_coefficients(tet, c);
-        for (l, x) in multi_index::iter::<4>(3).zip(coeffs.iter_mut()) {
+        for (l, x) in cubic::INDICES3.iter().zip(coeffs.iter_mut()) {
             match l[3] {
                 2 => *x += lift / 3.0,
                 3 => *x += lift,

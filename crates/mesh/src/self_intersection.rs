@@ -4,6 +4,7 @@ use crate::TriMesh;
 use crate::bvh::TriangleBvh;
 use crate::geometry::Aabb;
 use crate::primitives::{longest_edge_length, triangle_overlap_depth};
+use rayon::prelude::*;
 
 /// Relative depth beyond which two triangles count as crossing in [`self_intersections`]:
 /// `1e-9` of the longer of their longest edges. Rounding in [`triangle_overlap_depth`] is a
@@ -44,27 +45,33 @@ pub const SELF_INTERSECTION_TOLERANCE: f64 = 1e-9;
 pub fn self_intersections(mesh: &TriMesh) -> Vec<[u32; 2]> {
     let bvh = TriangleBvh::new(mesh);
     let tris = mesh.triangles();
-    let mut out = Vec::new();
-    for (f, t) in tris.iter().enumerate() {
-        let a = mesh.triangle_points(f);
-        if a.iter().any(|p| !p.is_finite()) {
-            continue;
-        }
-        for g in bvh.boxes_overlapping(&Aabb::from_points(&a)) {
-            if (g as usize) <= f {
-                continue;
-            }
-            let u = tris[g as usize];
-            if t.iter().any(|v| u.contains(v)) {
-                continue;
-            }
-            let b = mesh.triangle_points(g as usize);
-            let size = longest_edge_length(a).max(longest_edge_length(b));
-            if triangle_overlap_depth(a, b) > SELF_INTERSECTION_TOLERANCE * size {
-                out.push([f as u32, g]);
-            }
-        }
-    }
+    // One box query per face, in parallel (each pair is taken by its smaller face); the sort
+    // makes the result independent of the thread count.
+    let mut out: Vec<[u32; 2]> = (0..tris.len())
+        .into_par_iter()
+        .flat_map_iter(|f| {
+            let t = tris[f];
+            let a = mesh.triangle_points(f);
+            let candidates = if a.iter().all(|p| p.is_finite()) {
+                bvh.boxes_overlapping(&Aabb::from_points(&a))
+            } else {
+                Vec::new()
+            };
+            candidates.into_iter().filter_map(move |g| {
+                if (g as usize) <= f {
+                    return None;
+                }
+                let u = tris[g as usize];
+                if t.iter().any(|v| u.contains(v)) {
+                    return None;
+                }
+                let b = mesh.triangle_points(g as usize);
+                let size = longest_edge_length(a).max(longest_edge_length(b));
+                (triangle_overlap_depth(a, b) > SELF_INTERSECTION_TOLERANCE * size)
+                    .then_some([f as u32, g])
+            })
+        })
+        .collect();
     out.sort_unstable();
     out
 }
