@@ -2,6 +2,7 @@
 //! hull tetrahedra (never all pairs). Private: `algesurf-mesh` has no box-pair query.
 
 use glam::DVec3;
+use rayon::prelude::*;
 
 const LEAF: usize = 4;
 
@@ -72,12 +73,12 @@ impl Bvh {
             spread(q(0)) | (spread(q(1)) << 1) | (spread(q(2)) << 2)
         };
         let mut keyed: Vec<(u64, u32)> = boxes
-            .iter()
+            .par_iter()
             .enumerate()
             .map(|(i, b)| (code(b), i as u32))
             .collect();
         // Ties broken by id: the tree, and every traversal order, is deterministic.
-        keyed.sort_unstable();
+        keyed.par_sort_unstable();
         let mut b = Bvh {
             order: keyed.iter().map(|k| k.1).collect(),
             codes: keyed.iter().map(|k| k.0).collect(),

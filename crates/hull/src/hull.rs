@@ -191,44 +191,47 @@ pub(crate) fn build(
     let p = |v: u32| pos[v as usize];
     let n = |v: u32| normals[v as usize];
 
-    // Edges: orientation, faces, classification.
-    let mut edges = Vec::with_capacity(topo.edge_count());
-    for e in 0..topo.edge_count() as u32 {
-        let hs = topo.edge_half_edges(e);
-        if hs.len() > 2 {
-            let [a, b] = topo.edge(e);
-            return Err(HullError::NonManifoldEdge(a, b));
-        }
-        // Half-edge c runs from corner_vertex(c) to corner_vertex(next(c)).
-        let dir = |c: u32| (topo.corner_vertex(c), topo.corner_vertex(topo.next(c)));
-        let (i, j) = dir(hs[0]);
-        let face_k = topo.corner_face(hs[0]);
-        let k = topo.corner_vertex(topo.prev(hs[0]));
-        let (face_l, l) = if hs.len() == 2 {
-            let (a, b) = dir(hs[1]);
-            let g = topo.corner_face(hs[1]);
-            if (a, b) != (j, i) {
-                return Err(HullError::InconsistentOrientation {
-                    edge: [i, j],
-                    faces: [face_map[face_k as usize], face_map[g as usize]],
-                });
+    // Edges: orientation, faces, classification; in parallel, the first error in edge order.
+    let edges: Vec<Result<HullEdge, HullError>> = (0..topo.edge_count() as u32)
+        .into_par_iter()
+        .map(|e| {
+            let hs = topo.edge_half_edges(e);
+            if hs.len() > 2 {
+                let [a, b] = topo.edge(e);
+                return Err(HullError::NonManifoldEdge(a, b));
             }
-            (Some(g), Some(topo.corner_vertex(topo.prev(hs[1]))))
-        } else {
-            (None, None)
-        };
-        edges.push(HullEdge {
-            vertices: [i, j],
-            convexity: classify_edge(p(i), p(j), n(i), n(j), opts.zero_tolerance),
-            slopes: edge_slopes(p(i), p(j), n(i), n(j)),
-            face_k,
-            k,
-            face_l,
-            l,
-            positive: None,
-            negative: None,
-        });
-    }
+            // Half-edge c runs from corner_vertex(c) to corner_vertex(next(c)).
+            let dir = |c: u32| (topo.corner_vertex(c), topo.corner_vertex(topo.next(c)));
+            let (i, j) = dir(hs[0]);
+            let face_k = topo.corner_face(hs[0]);
+            let k = topo.corner_vertex(topo.prev(hs[0]));
+            let (face_l, l) = if hs.len() == 2 {
+                let (a, b) = dir(hs[1]);
+                let g = topo.corner_face(hs[1]);
+                if (a, b) != (j, i) {
+                    return Err(HullError::InconsistentOrientation {
+                        edge: [i, j],
+                        faces: [face_map[face_k as usize], face_map[g as usize]],
+                    });
+                }
+                (Some(g), Some(topo.corner_vertex(topo.prev(hs[1]))))
+            } else {
+                (None, None)
+            };
+            Ok(HullEdge {
+                vertices: [i, j],
+                convexity: classify_edge(p(i), p(j), n(i), n(j), opts.zero_tolerance),
+                slopes: edge_slopes(p(i), p(j), n(i), n(j)),
+                face_k,
+                k,
+                face_l,
+                l,
+                positive: None,
+                negative: None,
+            })
+        })
+        .collect();
+    let mut edges: Vec<HullEdge> = edges.into_iter().collect::<Result<_, _>>()?;
 
     // Faces: classification and face tetrahedra (§3.1).
     // Faces are independent of each other: built in parallel, the first error (in face

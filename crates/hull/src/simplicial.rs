@@ -570,26 +570,28 @@ impl SimplicialHull {
     /// Every tetrahedron of Σ: face tetrahedra in face order (positive before negative), then
     /// edge tetrahedra in edge order.
     pub fn tetrahedra(&self) -> Vec<HullTetrahedron> {
-        let mut out = Vec::new();
-        for (f, face) in self.faces.iter().enumerate() {
-            for t in face.positive.iter().chain(face.negative.iter()) {
-                out.push(HullTetrahedron {
+        let face_tets = self.faces.par_iter().enumerate().flat_map_iter(|(f, face)| {
+            face.positive
+                .iter()
+                .chain(face.negative.iter())
+                .map(move |t| HullTetrahedron {
                     element: Element::Face(f as u32),
                     side: t.side,
                     vertices: *t.tetrahedron.vertices(),
-                });
-            }
-        }
-        for (e, edge) in self.edges.iter().enumerate() {
-            for t in edge.positive.iter().chain(edge.negative.iter()) {
-                out.push(HullTetrahedron {
+                })
+        });
+        let edge_tets = self.edges.par_iter().enumerate().flat_map_iter(|(e, edge)| {
+            edge.positive
+                .iter()
+                .chain(edge.negative.iter())
+                .map(move |t| HullTetrahedron {
                     element: Element::Edge(e as u32),
                     side: t.side,
                     vertices: *t.tetrahedron.vertices(),
-                });
-            }
-        }
-        out
+                })
+        });
+        // Collected in parallel, in order (rayon keeps the sequence's order).
+        face_tets.chain(edge_tets).collect()
     }
 
     /// All pairs of tetrahedra of Σ whose interiors overlap by more than
@@ -617,7 +619,7 @@ impl SimplicialHull {
         fresh: Option<&[bool]>,
     ) -> Vec<Intersection> {
         let boxes = tets
-            .iter()
+            .par_iter()
             .map(|t| {
                 let (mut lo, mut hi) = (t.vertices[0], t.vertices[0]);
                 for v in &t.vertices[1..] {
