@@ -124,10 +124,17 @@ pub(crate) fn nearest_apex(
     let dist: [f64; 7] = std::array::from_fn(|i| hs[i].b.max(0.0) / norm[i]);
     let mut best: Option<DVec3> = None;
     let mut best_len = f64::INFINITY;
-    let mut consider = |set: &[usize]| {
+    // No feasible point is nearer than the farthest half-space, `dist[order[0]]`: a candidate
+    // at that distance (to the rounding of the projection, 1e-12 relative) is the optimum, and
+    // the enumeration stops there — the common case, one binding condition, after the first
+    // projection instead of all 64 sets. `consider` says whether that happened.
+    let mut order: [usize; 7] = std::array::from_fn(|i| i);
+    order.sort_by(|&i, &j| dist[j].total_cmp(&dist[i]));
+    let lower = dist[order[0]] * (1.0 + 1e-12);
+    let mut consider = |set: &[usize]| -> bool {
         let bound = set.iter().map(|&i| dist[i]).fold(0.0, f64::max);
         if bound >= best_len {
-            return;
+            return best_len <= lower;
         }
         let mut planes = [hs[0]; 3];
         for (slot, &i) in planes.iter_mut().zip(set) {
@@ -142,17 +149,25 @@ pub(crate) fn nearest_apex(
             best = Some(x);
             best_len = x.length();
         }
+        best_len <= lower
     };
-    let mut order: [usize; 7] = std::array::from_fn(|i| i);
-    order.sort_by(|&i, &j| dist[j].total_cmp(&dist[i]));
-    consider(&[]);
-    consider(&[order[0]]);
-    for i in 0..7 {
-        consider(&[i]);
-        for j in i + 1..7 {
-            consider(&[i, j]);
-            for k in j + 1..7 {
-                consider(&[i, j, k]);
+    'sets: {
+        if consider(&[]) || consider(&[order[0]]) {
+            break 'sets;
+        }
+        for i in 0..7 {
+            if consider(&[i]) {
+                break 'sets;
+            }
+            for j in i + 1..7 {
+                if consider(&[i, j]) {
+                    break 'sets;
+                }
+                for k in j + 1..7 {
+                    if consider(&[i, j, k]) {
+                        break 'sets;
+                    }
+                }
             }
         }
     }

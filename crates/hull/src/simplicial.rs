@@ -570,26 +570,34 @@ impl SimplicialHull {
     /// Every tetrahedron of Σ: face tetrahedra in face order (positive before negative), then
     /// edge tetrahedra in edge order.
     pub fn tetrahedra(&self) -> Vec<HullTetrahedron> {
-        let face_tets = self.faces.par_iter().enumerate().flat_map_iter(|(f, face)| {
-            face.positive
-                .iter()
-                .chain(face.negative.iter())
-                .map(move |t| HullTetrahedron {
-                    element: Element::Face(f as u32),
-                    side: t.side,
-                    vertices: *t.tetrahedron.vertices(),
-                })
-        });
-        let edge_tets = self.edges.par_iter().enumerate().flat_map_iter(|(e, edge)| {
-            edge.positive
-                .iter()
-                .chain(edge.negative.iter())
-                .map(move |t| HullTetrahedron {
-                    element: Element::Edge(e as u32),
-                    side: t.side,
-                    vertices: *t.tetrahedron.vertices(),
-                })
-        });
+        let face_tets = self
+            .faces
+            .par_iter()
+            .enumerate()
+            .flat_map_iter(|(f, face)| {
+                face.positive
+                    .iter()
+                    .chain(face.negative.iter())
+                    .map(move |t| HullTetrahedron {
+                        element: Element::Face(f as u32),
+                        side: t.side,
+                        vertices: *t.tetrahedron.vertices(),
+                    })
+            });
+        let edge_tets = self
+            .edges
+            .par_iter()
+            .enumerate()
+            .flat_map_iter(|(e, edge)| {
+                edge.positive
+                    .iter()
+                    .chain(edge.negative.iter())
+                    .map(move |t| HullTetrahedron {
+                        element: Element::Edge(e as u32),
+                        side: t.side,
+                        vertices: *t.tetrahedron.vertices(),
+                    })
+            });
         // Collected in parallel, in order (rayon keeps the sequence's order).
         face_tets.chain(edge_tets).collect()
     }
