@@ -91,6 +91,17 @@ impl ElementKeys {
     }
 }
 
+/// The connected component (an index) of every face of `mesh`.
+fn components_of(mesh: &TriMesh) -> Vec<u32> {
+    let mut c = vec![0u32; mesh.face_count()];
+    for (i, comp) in mesh.components().iter().enumerate() {
+        for &f in &comp.faces {
+            c[f as usize] = i as u32;
+        }
+    }
+    c
+}
+
 /// The mesh element a hull tetrahedron belongs to (ids of the possibly refined mesh).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Element {
@@ -282,6 +293,23 @@ impl SimplicialHull {
         // The previous round's tetrahedra (see `intersections_involving`).
         let mut checked = ElementKeys::default();
         let mut apexes = ApexCache::new();
+        // The connected component of every input face: bisection keeps a face's children in
+        // its component and joins no two, so a face's component in any round is its input
+        // face's (`face_map`), and the mesh's components are found once, not every round.
+        let input_component: Vec<u32> = {
+            let comp = components_of(&state.mesh);
+            let size = state
+                .face_map
+                .iter()
+                .map(|&g| g as usize + 1)
+                .max()
+                .unwrap_or(0);
+            let mut ic = vec![u32::MAX; size];
+            for (f, &g) in state.face_map.iter().enumerate() {
+                ic[g as usize] = comp[f];
+            }
+            ic
+        };
         loop {
             let built = build_faces_edges(
                 &state.mesh,
@@ -329,7 +357,11 @@ impl SimplicialHull {
             // head): no refinement separates them, so only the other overlaps are refined;
             // these are reported by `distant_intersections()`.
             let hits: Vec<Intersection> = if options.check_intersections {
-                let component = hull.face_components();
+                let component: Vec<u32> = state
+                    .face_map
+                    .iter()
+                    .map(|&g| input_component[g as usize])
+                    .collect();
                 let tets = hull.tetrahedra();
                 let fresh: Option<Vec<bool>> =
                     (round > first_round).then(|| checked.fresh(&hull.faces, &hull.edges, &tets));
@@ -466,13 +498,7 @@ impl SimplicialHull {
 
     /// The connected component of every face.
     fn face_components(&self) -> Vec<u32> {
-        let mut c = vec![0u32; self.mesh.face_count()];
-        for (i, comp) in self.mesh.components().iter().enumerate() {
-            for &f in &comp.faces {
-                c[f as usize] = i as u32;
-            }
-        }
-        c
+        components_of(&self.mesh)
     }
 
     fn same_component(&self, component: &[u32], a: Element, b: Element) -> bool {
