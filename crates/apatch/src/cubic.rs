@@ -68,45 +68,36 @@ const fn up_table<const M: usize>(n: usize) -> [[usize; 4]; M] {
 const UP3: [[usize; 4]; 10] = up_table::<10>(3);
 const UP2: [[usize; 4]; 4] = up_table::<4>(2);
 
-/// `RANK3[λ_0][λ_1][λ_2]`: the rank of the degree-3 index `(λ_0, λ_1, λ_2, 3 − λ_0 − λ_1 − λ_2)`
-/// (entries with `λ_0 + λ_1 + λ_2 > 3` unused).
-const RANK3: [[[usize; 4]; 4]; 4] = {
-    let mut t = [[[0usize; 4]; 4]; 4];
+/// `(RANK3, INDICES3)` in one pass over the degree-3 indices.
+const TABLES3: ([[[usize; 4]; 4]; 4], [[usize; 4]; 20]) = {
+    let mut ranks = [[[0usize; 4]; 4]; 4];
+    let mut indices = [[0usize; 4]; 20];
     let mut a = 0;
     while a <= 3 {
         let mut b = 0;
         while a + b <= 3 {
             let mut c = 0;
             while a + b + c <= 3 {
-                t[a][b][c] = rank([a, b, c, 3 - a - b - c], 3);
+                let l = [a, b, c, 3 - a - b - c];
+                let r = rank(l, 3);
+                ranks[a][b][c] = r;
+                indices[r] = l;
                 c += 1;
             }
             b += 1;
         }
         a += 1;
     }
-    t
+    (ranks, indices)
 };
+
+/// `RANK3[λ_0][λ_1][λ_2]`: the rank of the degree-3 index `(λ_0, λ_1, λ_2, 3 − λ_0 − λ_1 − λ_2)`
+/// (entries with `λ_0 + λ_1 + λ_2 > 3` unused).
+const RANK3: [[[usize; 4]; 4]; 4] = TABLES3.0;
 
 /// The 20 multi-indices of degree 3 in storage order (`INDICES3[rank3(l)] == l`): a table
 /// for the hot loops, which `algesurf_bb::multi_index::iter` would walk by successor steps.
-pub(crate) const INDICES3: [[usize; 4]; 20] = {
-    let mut t = [[0usize; 4]; 20];
-    let mut a = 0;
-    while a <= 3 {
-        let mut b = 0;
-        while a + b <= 3 {
-            let mut c = 0;
-            while a + b + c <= 3 {
-                t[RANK3[a][b][c]] = [a, b, c, 3 - a - b - c];
-                c += 1;
-            }
-            b += 1;
-        }
-        a += 1;
-    }
-    t
-};
+pub(crate) const INDICES3: [[usize; 4]; 20] = TABLES3.1;
 
 /// Rank of a degree-3 multi-index in storage order (the same as
 /// `algesurf_bb::multi_index::rank`, by table).

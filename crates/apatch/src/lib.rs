@@ -22,6 +22,8 @@ pub mod sheet;
 pub mod split;
 pub mod surface;
 pub mod tessellate;
+#[cfg(test)]
+mod test_rng;
 pub mod verify;
 
 pub use edge::{EdgeCubic, EdgeNeighbour};

@@ -229,13 +229,8 @@ mod tests {
     /// rational term, on both sides.
     #[test]
     fn whole_face_shortcut_is_the_root_cell_bound() {
-        let mut state = 99u64;
-        let mut next = || {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        let mut rng = crate::test_rng::Lcg(99);
+        let mut next = || rng.next();
         let mut decided = 0;
         for case in 0..200 {
             let poly = BbPoly::from_fn(3, |l| next() - if l[3] == 0 { 0.3 } else { 0.0 });

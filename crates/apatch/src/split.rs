@@ -444,21 +444,7 @@ fn nearest_solution(sys: &System, target: &[f64], cascade: bool) -> (Vec<f64>, f
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// A tiny deterministic generator (no external crates in unit tests).
-    struct Lcg(u64);
-    impl Lcg {
-        fn next(&mut self) -> f64 {
-            self.0 = self
-                .0
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (self.0 >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        }
-        fn vec(&mut self) -> DVec3 {
-            DVec3::new(self.next(), self.next(), self.next())
-        }
-    }
+    use crate::test_rng::Lcg;
 
     /// Forcing unknowns in cascade changes neither the feasible set nor the objective, so the
     /// nearest point is the dense solve's, to rounding: for apexes on a slanted line and on

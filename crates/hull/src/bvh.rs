@@ -302,13 +302,8 @@ mod tests {
     /// with and without marks.
     #[test]
     fn self_join_finds_every_intersecting_pair_once() {
-        let mut state = 12345u64;
-        let mut next = || {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = crate::test_rng::Lcg(12345);
+        let mut next = || rng.next();
         let boxes: Vec<(DVec3, DVec3)> = (0..700)
             .map(|_| {
                 let lo = DVec3::new(next(), next(), next()) * 10.0;

@@ -108,20 +108,7 @@ pub fn tetrahedra_overlap(a: &[DVec3; 4], b: &[DVec3; 4], tolerance: f64) -> boo
 mod tests {
     use super::*;
 
-    /// A tiny deterministic generator (no external crates in unit tests).
-    struct Lcg(u64);
-    impl Lcg {
-        fn next(&mut self) -> f64 {
-            self.0 = self
-                .0
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (self.0 >> 11) as f64 / (1u64 << 53) as f64
-        }
-        fn point(&mut self) -> DVec3 {
-            DVec3::new(self.next(), self.next(), self.next()) * 2.0 - 1.0
-        }
-    }
+    use crate::test_rng::Lcg;
 
     fn bary(t: &[DVec3; 4], p: DVec3) -> [f64; 4] {
         let m = glam::DMat3::from_cols(t[1] - t[0], t[2] - t[0], t[3] - t[0]);

@@ -596,33 +596,37 @@ impl SimplicialHull {
     /// Every tetrahedron of Σ: face tetrahedra in face order (positive before negative), then
     /// edge tetrahedra in edge order.
     pub fn tetrahedra(&self) -> Vec<HullTetrahedron> {
+        // An element's tetrahedra, positive before negative.
+        fn of(
+            element: Element,
+            sides: [Option<(Side, [DVec3; 4])>; 2],
+        ) -> impl Iterator<Item = HullTetrahedron> {
+            sides
+                .into_iter()
+                .flatten()
+                .map(move |(side, vertices)| HullTetrahedron {
+                    element,
+                    side,
+                    vertices,
+                })
+        }
         let face_tets = self
             .faces
             .par_iter()
             .enumerate()
             .flat_map_iter(|(f, face)| {
-                face.positive
-                    .iter()
-                    .chain(face.negative.iter())
-                    .map(move |t| HullTetrahedron {
-                        element: Element::Face(f as u32),
-                        side: t.side,
-                        vertices: *t.tetrahedron.vertices(),
-                    })
+                let sides = [&face.positive, &face.negative]
+                    .map(|t| t.as_ref().map(|t| (t.side, *t.tetrahedron.vertices())));
+                of(Element::Face(f as u32), sides)
             });
         let edge_tets = self
             .edges
             .par_iter()
             .enumerate()
             .flat_map_iter(|(e, edge)| {
-                edge.positive
-                    .iter()
-                    .chain(edge.negative.iter())
-                    .map(move |t| HullTetrahedron {
-                        element: Element::Edge(e as u32),
-                        side: t.side,
-                        vertices: *t.tetrahedron.vertices(),
-                    })
+                let sides = [&edge.positive, &edge.negative]
+                    .map(|t| t.as_ref().map(|t| (t.side, *t.tetrahedron.vertices())));
+                of(Element::Edge(e as u32), sides)
             });
         // Collected in parallel, in order (rayon keeps the sequence's order).
         face_tets.chain(edge_tets).collect()
