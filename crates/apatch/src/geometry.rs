@@ -21,20 +21,26 @@ pub(crate) fn exact_barycentric(t: &Tetrahedron, p: DVec3) -> [f64; 4] {
     t.barycentric(p)
 }
 
-/// Components of barycentric coordinates (or of a barycentric direction) that are zero in
-/// exact arithmetic come out of [`Tetrahedron::barycentric`] as rounding, ~1e-16 of the
-/// largest: `1e-11` of the largest is far above that (a tetrahedron would need a condition
-/// number near 1e5 to round a zero that high) and far below any component the geometry
-/// gives (sub-tetrahedra of a split face have coordinates of order 1).
+/// Components of the barycentric coordinates of a split face's sub-tetrahedron vertex in its
+/// neighbour's coordinates that are zero in exact arithmetic come out of
+/// [`Tetrahedron::barycentric`] as rounding, ~1e-16 of the largest (up to ~1e-13 where the
+/// apexes were placed far from the origin relative to the face size): `1e-11` of the largest
+/// is above that, and far below any component the geometry gives there — the other face
+/// vertex is `(−1, −1, 3, 0)` in a sub-tetrahedron of the same side, the other apex
+/// `(0, 0, 1 + r, −r)` with `r` the ratio of the two apex distances from the centroid, both of
+/// order 1.
+/// Not for general points or directions: the mid-edge directions of a split face have
+/// components that are zero in exact arithmetic too, but there the computed ones matter (see
+/// `split::constraints`).
 const ROUNDING_ZERO: f64 = 1e-11;
 
 /// `x` with the components at rounding level (at most [`ROUNDING_ZERO`] of the largest) made
-/// exact zeros, their sum moved onto the largest component so that the total (1 for a point,
-/// 0 for a direction) is kept. The point (or direction) moves by at most `1e-11` of the
-/// tetrahedron's size; C1 rows built from it then carry exact zero weights where the
-/// geometry has them (a split face's centroid lies in the plane of every sub-triangle, its
-/// two apexes on one line through the centroid), which lets the split-face solve eliminate
-/// them one at a time (`split::force_single_unknowns`) instead of densely.
+/// exact zeros, their sum moved onto the largest component so that the total (1 for a point)
+/// is kept. The point moves by at most `1e-11` of the tetrahedron's size; C1 rows built from it
+/// then carry exact zero weights where the geometry has them (a split face's centroid lies in
+/// the plane of every sub-triangle, its two apexes on one line through the centroid), which
+/// lets the split-face solve eliminate them one at a time (`split::force_single_unknowns`)
+/// instead of densely.
 pub(crate) fn snap_rounding_zeros(mut x: [f64; 4]) -> [f64; 4] {
     let (big, largest) = x.iter().enumerate().fold((0, 0.0f64), |(bi, bv), (i, v)| {
         if v.abs() > bv { (i, v.abs()) } else { (bi, bv) }

@@ -198,14 +198,19 @@ fn constraints(
                     sys.push([(ti * 20 + cubic::rank3(l), 1.0)], val);
                 }
             }
-            // Mid-edge transversal gradient at m = (p_b + p_c)/2 in two directions.
+            // Mid-edge transversal gradient at m = (p_b + p_c)/2 in two directions. The
+            // barycentric directions are used as solved, rounding included: `x − foot(x)`
+            // has an exact zero component in exact arithmetic (on the apex for the centroid's
+            // direction, on the centroid for the apex's), but zeroing the computed one moves
+            // the row off the direction `d` its right side `dᵀg` is for, and on small faces
+            // far from the origin the sub-tetrahedra are ill-conditioned enough for that to
+            // show: the value mismatch across the edge facets grew fivefold (cow, Suzanne),
+            // and taking `d` back from the zeroed direction made the constraints inconsistent.
             let m = [0.5, 0.5, 0.0, 0.0];
             let g = mid_gradients[a];
-            for d in [
-                c - foot(c, p[b], p[cc]),
-                apexes[side] - foot(apexes[side], p[b], p[cc]),
-            ] {
-                let dir = snap_rounding_zeros(tets[ti].barycentric_direction(d));
+            for x in [c, apexes[side]] {
+                let d = x - foot(x, p[b], p[cc]);
+                let dir = tets[ti].barycentric_direction(d);
                 // D_d F(m) = 3 b[d, m, m] (see `cubic`).
                 let weights = cubic::blossom_weights(dir, m, m).map(|w| 3.0 * w);
                 let terms = weights.iter().enumerate().filter(|(_, w)| **w != 0.0);
@@ -252,50 +257,210 @@ fn constraints(
 /// whose rank cut decides them.
 const FORCE_PIVOT: f64 = 1e-3;
 
-/// Rows of `rows` in which every unknown but those of one class `c` has a value (fixed itself
-/// or in a fixed class) force `c`'s value: every feasible point has it, so fixing it leaves
-/// the feasible set, and with it the nearest point, unchanged. Repeated until no row forces
-/// anything; the rows used are removed (rows left without a free unknown too: they are
-/// implied, and the final residual still checks them). The vertex data fix the coefficients
-/// next to the face's vertices, after which the mid-edge rows and most C1 rows near the face's
-/// edges force one coefficient each, so the dense solve is left with the coefficients about
-/// the centroid–apex axes.
+/// The rows of [`force_single_unknowns`] with the known values moved to the right side, in
+/// flat arrays (two allocations per array, not one per row and class: a split face runs
+/// this 54 k times on the bunny).
+struct Cascade<'a> {
+    /// Row `i`'s free classes with their summed coefficients are
+    /// `free[start[i]..start[i] + len[i]]`.
+    free: Vec<(usize, f64)>,
+    start: Vec<usize>,
+    len: Vec<usize>,
+    /// Per row: the reduced right side.
+    rhs: Vec<f64>,
+    /// Per row: its largest weight (for the pivot tests).
+    wmax: Vec<f64>,
+    /// Per row: used to force values, or left without free classes.
+    done: Vec<bool>,
+    /// The rows class `c` is free in: `rows_of[class_start[c]..class_start[c + 1]]`.
+    rows_of: Vec<usize>,
+    class_start: Vec<usize>,
+    /// Rows left with one free class, to look at.
+    queue: Vec<usize>,
+    class_fixed: &'a mut [Option<f64>],
+}
+
+impl Cascade<'_> {
+    fn row(&self, i: usize) -> &[(usize, f64)] {
+        &self.free[self.start[i]..self.start[i] + self.len[i]]
+    }
+
+    /// Fixes class `c` at `y`: every row it is free in moves it to the right side.
+    fn fix(&mut self, c: usize, y: f64) {
+        self.class_fixed[c] = Some(y);
+        for r in self.class_start[c]..self.class_start[c + 1] {
+            let i = self.rows_of[r];
+            if self.done[i] {
+                continue;
+            }
+            let (s, n) = (self.start[i], self.len[i]);
+            if let Some(k) = self.free[s..s + n].iter().position(|t| t.0 == c) {
+                let w = self.free[s + k].1;
+                self.free.swap(s + k, s + n - 1);
+                self.len[i] = n - 1;
+                self.rhs[i] -= w * y;
+                match n - 1 {
+                    0 => self.done[i] = true,
+                    1 => self.queue.push(i),
+                    _ => {}
+                }
+            }
+        }
+    }
+
+    /// Forces what single rows force, in cascade.
+    fn singles(&mut self) {
+        while let Some(i) = self.queue.pop() {
+            if self.done[i] || self.len[i] != 1 {
+                continue;
+            }
+            let (c, w) = self.row(i)[0];
+            if w.abs() >= FORCE_PIVOT * self.wmax[i] {
+                self.done[i] = true;
+                self.fix(c, self.rhs[i] / w);
+            }
+        }
+    }
+
+    /// Forces the two classes of every pair of rows left with the same two free classes and
+    /// a nonsingular 2 × 2 system (one pair per two classes; a pair whose classes an earlier
+    /// one fixed waits). Whether anything was forced.
+    fn pairs(&mut self) -> bool {
+        let mut keyed: Vec<([usize; 2], usize)> = (0..self.len.len())
+            .filter(|&i| {
+                let f = self.row(i);
+                !self.done[i]
+                    && f.len() == 2
+                    && f[0].1.abs().max(f[1].1.abs()) >= FORCE_PIVOT * self.wmax[i]
+            })
+            .map(|i| {
+                let f = self.row(i);
+                let (a, b) = (f[0].0, f[1].0);
+                ([a.min(b), a.max(b)], i)
+            })
+            .collect();
+        // By classes, then row order: deterministic.
+        keyed.sort_unstable();
+        let mut forced = false;
+        for group in keyed.chunk_by(|x, y| x.0 == y.0) {
+            let [ca, cb] = group[0].0;
+            let coef =
+                |f: &[(usize, f64)], c: usize| f.iter().find(|t| t.0 == c).map_or(0.0, |t| t.1);
+            'pairs: for (k, &(_, i)) in group.iter().enumerate() {
+                for &(_, j) in &group[k + 1..] {
+                    if self.class_fixed[ca].is_some() || self.class_fixed[cb].is_some() {
+                        break 'pairs;
+                    }
+                    let (a11, a12) = (coef(self.row(i), ca), coef(self.row(i), cb));
+                    let (a21, a22) = (coef(self.row(j), ca), coef(self.row(j), cb));
+                    let det = a11 * a22 - a12 * a21;
+                    if det.abs() >= FORCE_PIVOT * ((a11 * a22).abs() + (a12 * a21).abs()) {
+                        let (ri, rj) = (self.rhs[i], self.rhs[j]);
+                        self.done[i] = true;
+                        self.done[j] = true;
+                        self.fix(ca, (ri * a22 - a12 * rj) / det);
+                        self.fix(cb, (a11 * rj - a21 * ri) / det);
+                        forced = true;
+                        break 'pairs;
+                    }
+                }
+            }
+        }
+        forced
+    }
+}
+
+/// Rows that, with the values known so far, leave one free class `c` force its value, and two
+/// rows that leave the same two free classes force both (their 2 × 2 system, when it is
+/// nonsingular): every feasible point has these values, so fixing them leaves the feasible
+/// set, and with it the nearest point, unchanged. Repeated until nothing is forced (a work
+/// list: fixing a class visits only the rows it is in); the rows used are removed (rows left
+/// without a free unknown too: they are implied, and the final residual still checks them).
+/// The vertex data fix the coefficients next to the face's vertices; each sub-tetrahedron's
+/// two mid-edge rows then force the two coefficients next to the middle of its edge (a 2 × 2
+/// system: the computed direction from the centroid keeps a rounding-size weight on the apex
+/// side), after which most C1 rows force one coefficient each, so the dense solve is left
+/// with the coefficients about the centroid–apex axes.
+///
+/// Pivots: a single class's coefficient must be at least [`FORCE_PIVOT`] of the row's largest
+/// weight, and a pair's determinant at least that fraction of `|a₁₁a₂₂| + |a₁₂a₂₁|` (so it
+/// does not cancel by more), with each row's free coefficients not below that fraction of its
+/// largest weight; rows that fail go to the dense solve.
 fn force_single_unknowns(
     rows: &mut Vec<(&[(usize, f64)], f64)>,
     class_of: &[usize],
     fixed: &[Option<f64>],
     class_fixed: &mut [Option<f64>],
 ) {
-    loop {
-        let before = rows.len();
-        rows.retain(|&(terms, r)| {
-            let mut v = r;
-            let mut free: Option<(usize, f64)> = None;
-            let mut wmax = 0.0f64;
-            for &(j, w) in terms {
-                wmax = wmax.max(w.abs());
-                let c = class_of[j];
-                match (class_fixed[c], free) {
-                    (Some(x), _) => v -= w * fixed[j].unwrap_or(x),
-                    (None, None) => free = Some((c, w)),
-                    (None, Some((c0, w0))) if c0 == c => free = Some((c0, w0 + w)),
-                    // Two free classes: the row stays.
-                    (None, Some(_)) => return true,
-                }
+    let nr = rows.len();
+    let n = class_of.len();
+    let mut cascade = Cascade {
+        free: Vec::with_capacity(rows.iter().map(|r| r.0.len()).sum()),
+        start: Vec::with_capacity(nr),
+        len: Vec::with_capacity(nr),
+        rhs: Vec::with_capacity(nr),
+        wmax: Vec::with_capacity(nr),
+        done: vec![false; nr],
+        rows_of: Vec::new(),
+        class_start: vec![0; n + 1],
+        queue: Vec::new(),
+        class_fixed,
+    };
+    for (i, &(terms, r)) in rows.iter().enumerate() {
+        let s = cascade.free.len();
+        let (mut v, mut wmax) = (r, 0.0f64);
+        for &(j, w) in terms {
+            wmax = wmax.max(w.abs());
+            let c = class_of[j];
+            match cascade.class_fixed[c] {
+                Some(x) => v -= w * fixed[j].unwrap_or(x),
+                None => match cascade.free[s..].iter_mut().find(|t| t.0 == c) {
+                    Some(t) => t.1 += w,
+                    None => cascade.free.push((c, w)),
+                },
             }
-            match free {
-                None => false,
-                Some((c, w)) if w.abs() >= FORCE_PIVOT * wmax => {
-                    class_fixed[c] = Some(v / w);
-                    false
-                }
-                Some(_) => true,
-            }
-        });
-        if rows.len() == before {
-            return;
+        }
+        let len = cascade.free.len() - s;
+        for k in s..s + len {
+            cascade.class_start[cascade.free[k].0 + 1] += 1;
+        }
+        match len {
+            0 => cascade.done[i] = true,
+            1 => cascade.queue.push(i),
+            _ => {}
+        }
+        cascade.start.push(s);
+        cascade.len.push(len);
+        cascade.rhs.push(v);
+        cascade.wmax.push(wmax);
+    }
+    // Rows per class, by counting (compressed rows).
+    for c in 0..n {
+        cascade.class_start[c + 1] += cascade.class_start[c];
+    }
+    let mut next = cascade.class_start.clone();
+    cascade.rows_of = vec![0; cascade.class_start[n]];
+    for i in 0..nr {
+        for k in cascade.start[i]..cascade.start[i] + cascade.len[i] {
+            let c = cascade.free[k].0;
+            cascade.rows_of[next[c]] = i;
+            next[c] += 1;
         }
     }
+    // Rows in order (the queue is a stack).
+    cascade.queue.reverse();
+    loop {
+        cascade.singles();
+        if !cascade.pairs() {
+            break;
+        }
+    }
+    let done = cascade.done;
+    let mut k = 0;
+    rows.retain(|_| {
+        k += 1;
+        !done[k - 1]
+    });
 }
 
 /// Representative of `j`'s class in the union–find forest `parent` (with path halving).
@@ -318,8 +483,9 @@ fn find(parent: &mut [usize], mut j: usize) -> usize {
 /// * rows `x_i − x_j = 0` (the C0 rows of the joins: a coefficient on a shared facet is the
 ///   blossom of its neighbour at the facet's vertices, which `exact_barycentric` makes exact
 ///   unit vectors, so the weights are exactly one 1) merge `i` and `j` into one unknown;
-/// * rows that, once the first two kinds are in, leave a single free unknown force it, in
-///   cascade ([`force_single_unknowns`]).
+/// * rows that, once the first two kinds are in, leave a single free unknown force it, and
+///   pairs of rows left with the same two free unknowns force both, in cascade
+///   ([`force_single_unknowns`]).
 ///
 /// A class of merged unknowns that contains a fixed one takes its fixed value (the
 /// least-indexed one; fixed values in one class agree to rounding, which the residual shows).
