@@ -39,7 +39,7 @@ const ROUNDING_ZERO: f64 = 1e-11;
 /// is kept. The point moves by at most `1e-11` of the tetrahedron's size; C1 rows built from it
 /// then carry exact zero weights where the geometry has them (a split face's centroid lies in
 /// the plane of every sub-triangle, its two apexes on one line through the centroid), which
-/// lets the split-face solve eliminate them one at a time (`split::force_single_unknowns`)
+/// lets the split-face solve eliminate them one at a time (`split::force_determined_unknowns`)
 /// instead of densely.
 pub(crate) fn snap_rounding_zeros(mut x: [f64; 4]) -> [f64; 4] {
     let (big, largest) = x.iter().enumerate().fold((0, 0.0f64), |(bi, bv), (i, v)| {

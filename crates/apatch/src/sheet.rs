@@ -188,7 +188,7 @@ pub fn certified_face_bound(
     // layers' least coefficients (the blossom at the triangle's own corners is exact), so
     // this is bit for bit the value at which `certified_triangle_b_min_below` would stop at
     // the root — as it does for 339,642 of the bunny's 339,854 face bounds.
-    if poly.degree() == 3 && poly.coeffs().len() == 20 {
+    if poly.degree() == 3 {
         let mut minima = [f64::INFINITY; 4];
         for (&l, &c) in crate::cubic::INDICES3.iter().zip(poly.coeffs()) {
             let k = l[3];

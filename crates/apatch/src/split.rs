@@ -139,7 +139,7 @@ impl SplitFace {
             ));
         }
         let (sys, target, tets) = constraints(v, apexes, mid_gradients, q, f)?;
-        let (x, residual) = nearest_solution(&sys, &target, true);
+        let (x, residual, _) = nearest_solution(&sys, &target, true);
         let mut sides = Vec::new();
         for side in 0..apexes.len() {
             let polys = std::array::from_fn(|a| {
@@ -177,8 +177,8 @@ fn constraints(
     }
     let n = tets.len() * 20;
     // Two apexes: 48 vertex, 12 mid-edge, 6 apex rows and 9 joins of 16 rows (C0 rows
-    // have 2 terms, C1 rows up to 21).
-    let mut sys = System::with_capacity(224, 2048);
+    // have 2 terms, C1 rows up to 5, mid-edge rows up to 10: 624 terms at most).
+    let mut sys = System::with_capacity(224, 640);
     for side in 0..apexes.len() {
         let t0 = side * 3;
         for a in 0..3 {
@@ -251,13 +251,14 @@ fn constraints(
     Ok((sys, target, tets))
 }
 
-/// Smallest pivot, relative to the row's largest weight, with which a row that leaves a
-/// single free class forces it (see [`force_single_unknowns`]): 1e-3 bounds the growth of the
-/// row's rounding in the forced value by 10³; rows with a smaller pivot go to the dense solve,
-/// whose rank cut decides them.
+/// Smallest pivot with which rows force unknowns (see [`force_determined_unknowns`]): a
+/// single row's coefficient relative to its largest weight, and a pair's determinant
+/// relative to `|a₁₁a₂₂| + |a₁₂a₂₁|`. 1e-3 bounds the growth of the rows' rounding in the
+/// forced values by 10³; rows with a smaller pivot go to the dense solve, whose rank cut
+/// decides them.
 const FORCE_PIVOT: f64 = 1e-3;
 
-/// The rows of [`force_single_unknowns`] with the known values moved to the right side, in
+/// The rows of [`force_determined_unknowns`] with the known values moved to the right side, in
 /// flat arrays (two allocations per array, not one per row and class: a split face runs
 /// this 54 k times on the bunny).
 struct Cascade<'a> {
@@ -386,7 +387,7 @@ impl Cascade<'_> {
 /// weight, and a pair's determinant at least that fraction of `|a₁₁a₂₂| + |a₁₂a₂₁|` (so it
 /// does not cancel by more), with each row's free coefficients not below that fraction of its
 /// largest weight; rows that fail go to the dense solve.
-fn force_single_unknowns(
+fn force_determined_unknowns(
     rows: &mut Vec<(&[(usize, f64)], f64)>,
     class_of: &[usize],
     fixed: &[Option<f64>],
@@ -485,7 +486,7 @@ fn find(parent: &mut [usize], mut j: usize) -> usize {
 ///   unit vectors, so the weights are exactly one 1) merge `i` and `j` into one unknown;
 /// * rows that, once the first two kinds are in, leave a single free unknown force it, and
 ///   pairs of rows left with the same two free unknowns force both, in cascade
-///   ([`force_single_unknowns`]).
+///   ([`force_determined_unknowns`]).
 ///
 /// A class of merged unknowns that contains a fixed one takes its fixed value (the
 /// least-indexed one; fixed values in one class agree to rounding, which the residual shows).
@@ -497,7 +498,9 @@ fn find(parent: &mut [usize], mut j: usize) -> usize {
 /// correction of all unknowns (the same objective on the same feasible set).
 ///
 /// `cascade: false` skips the third kind of elimination (the tests compare the two).
-fn nearest_solution(sys: &System, target: &[f64], cascade: bool) -> (Vec<f64>, f64) {
+/// Returns the coefficients, the relative residual and the number of rows left to the dense
+/// solve.
+fn nearest_solution(sys: &System, target: &[f64], cascade: bool) -> (Vec<f64>, f64, usize) {
     let n = target.len();
     let mut fixed: Vec<Option<f64>> = vec![None; n];
     let mut parent: Vec<usize> = (0..n).collect();
@@ -531,7 +534,7 @@ fn nearest_solution(sys: &System, target: &[f64], cascade: bool) -> (Vec<f64>, f
         .filter(|(t, r)| t.len() > 1 && !is_equality(t, *r))
         .collect();
     if cascade {
-        force_single_unknowns(&mut coupled, &class_of, &fixed, &mut class_fixed);
+        force_determined_unknowns(&mut coupled, &class_of, &fixed, &mut class_fixed);
     }
     let mut col = vec![usize::MAX; n];
     let mut classes = Vec::new();
@@ -604,7 +607,7 @@ fn nearest_solution(sys: &System, target: &[f64], cascade: bool) -> (Vec<f64>, f
             .map(|(terms, r)| r - terms.iter().map(|&(j, w)| w * x[j]).sum::<f64>()),
     );
     let size_of = amax(&mut sys.rhs.iter().copied()).max(amax(&mut target.iter().copied()));
-    (x, worst / size_of.max(f64::MIN_POSITIVE))
+    (x, worst / size_of.max(f64::MIN_POSITIVE), m)
 }
 
 #[cfg(test)]
@@ -615,7 +618,8 @@ mod tests {
     /// Forcing unknowns in cascade changes neither the feasible set nor the objective, so the
     /// nearest point is the dense solve's, to rounding: for apexes on a slanted line and on
     /// the normal through the centroid (the hull places them on one line through it, which
-    /// keeps the constraints consistent; the snapped zeros make the cascade reach far).
+    /// keeps the constraints consistent; the snapped zeros and the 2 × 2 pairs make the cascade
+    /// reach far, which is checked too).
     #[test]
     fn cascade_elimination_gives_the_dense_solution() {
         let mut rng = Lcg(7);
@@ -648,8 +652,13 @@ mod tests {
             };
             let f = [q.value(u) + 0.05, q.value(w) - 0.05];
             let (sys, target, _) = constraints(v, &[u, w], mids, &q, &f).unwrap();
-            let (fast, r_fast) = nearest_solution(&sys, &target, true);
-            let (dense, r_dense) = nearest_solution(&sys, &target, false);
+            let (fast, r_fast, rows_fast) = nearest_solution(&sys, &target, true);
+            let (dense, r_dense, rows_dense) = nearest_solution(&sys, &target, false);
+            // The cascade reaches far (the bunny's split faces: 6 rows left of 54).
+            assert!(
+                rows_fast <= 8 && rows_dense >= 40,
+                "case {case}: {rows_fast} rows left to the dense solve, {rows_dense} without the cascade"
+            );
             assert!(
                 r_fast < 1e-12 && r_dense < 1e-12,
                 "case {case}: {r_fast:e} {r_dense:e}"
