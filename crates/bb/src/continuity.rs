@@ -181,7 +181,15 @@ pub fn vertex_coefficients<const N: usize>(
     if n == 0 {
         return Ok(vec![(multi_index::vertex(0, i), value)]);
     }
-    let mut out = vec![(multi_index::vertex(n, i), value)];
+    // The vertex, its N − 1 neighbours, and with a Hessian the N(N − 1)/2 second-layer
+    // coefficients: allocated once (this runs a dozen times per split face).
+    let layer2 = if hessian.is_some() && n >= 2 {
+        N * (N - 1) / 2
+    } else {
+        0
+    };
+    let mut out = Vec::with_capacity(N + layer2);
+    out.push((multi_index::vertex(n, i), value));
     let first = |j: usize| value + (vertices[j] - vertices[i]).dot(gradient) / n as f64;
     for j in (0..N).filter(|&j| j != i) {
         let mut l = multi_index::vertex(n, i);

@@ -9,7 +9,6 @@ use algesurf_bb::Tetrahedron;
 use algesurf_mesh::TriMesh;
 use glam::DVec3;
 use rayon::prelude::*;
-use std::collections::HashMap;
 
 /// A face tetrahedron `[p_i p_j p_k w]` of §3.1, `w` the apex `u_ijk` (positive side) or
 /// `v_ijk` (negative side).
@@ -167,15 +166,51 @@ pub(crate) fn check_input(mesh: &TriMesh, normals: &[DVec3]) -> Result<(), HullE
     Ok(())
 }
 
-/// Builds faces and edges (classification, face and edge tetrahedra) of `mesh`.
-/// Apexes `[u, v]` of the previous refinement round, by corner ids: a face with the same
-/// corners has the same positions and normals (refinement only appends vertices and never
-/// changes a normal), so its apexes are the same.
-pub(crate) type ApexCache = HashMap<[u32; 3], [Option<DVec3>; 2]>;
+/// The faces and edges of the previous refinement round, for [`build`] to reuse.
+///
+/// Refinement splits faces in place and appends the new halves (`EditMesh::split_edge`), so a
+/// face id that survives a round with the same corners is the same triangle: same positions,
+/// same normals (refinement only appends vertices and never changes a normal), hence the same
+/// classification, apexes and tetrahedra. Only its edge ids may change (the topology numbers
+/// the edges afresh). An edge whose two faces both survive has the same vertices, faces and
+/// apexes, hence the same edge tetrahedra.
+#[derive(Clone, Copy)]
+pub(crate) struct PreviousRound<'a> {
+    pub(crate) faces: &'a [HullFace],
+    pub(crate) edges: &'a [HullEdge],
+}
 
-/// The apexes of every face, for the next round's [`build`].
-pub(crate) fn apex_cache(faces: &[HullFace]) -> ApexCache {
-    faces.iter().map(|f| (f.vertices, [f.u(), f.v()])).collect()
+impl PreviousRound<'_> {
+    /// Face `f`, when it survived with corners `t`.
+    fn face(&self, f: usize, t: &[u32; 3]) -> Option<&HullFace> {
+        self.faces.get(f).filter(|pf| pf.vertices == *t)
+    }
+
+    /// The previous round's edge with the vertices and faces of `edge`, when its faces
+    /// survived (`fresh_face` false for both).
+    fn edge(&self, edge: &HullEdge, fresh_face: &[bool]) -> Option<&HullEdge> {
+        let face_l = edge.face_l?;
+        if fresh_face[edge.face_k as usize] || fresh_face[face_l as usize] {
+            return None;
+        }
+        // A surviving face's edge ids are the previous round's: one of its three is this edge.
+        self.faces[edge.face_k as usize]
+            .edges
+            .iter()
+            .map(|&e| &self.edges[e as usize])
+            .find(|pe| {
+                pe.vertices == edge.vertices && pe.face_k == edge.face_k && pe.face_l == edge.face_l
+            })
+    }
+}
+
+/// What [`build`] gives: the faces and edges, and which of them are new since the previous
+/// round (all of them without one).
+pub(crate) struct Built {
+    pub(crate) faces: Vec<HullFace>,
+    pub(crate) edges: Vec<HullEdge>,
+    pub(crate) fresh_faces: Vec<bool>,
+    pub(crate) fresh_edges: Vec<bool>,
 }
 
 pub(crate) fn build(
@@ -183,8 +218,8 @@ pub(crate) fn build(
     normals: &[DVec3],
     face_map: &[u32],
     opts: &HullOptions,
-    cache: &ApexCache,
-) -> Result<(Vec<HullFace>, Vec<HullEdge>), HullError> {
+    prev: Option<PreviousRound<'_>>,
+) -> Result<Built, HullError> {
     let topo = mesh.topology();
     let pos = mesh.positions();
     let tris = mesh.triangles();
@@ -236,13 +271,22 @@ pub(crate) fn build(
     // Faces: classification and face tetrahedra (§3.1).
     // Faces are independent of each other: built in parallel, the first error (in face
     // order) reported, so the result does not depend on the thread count.
-    let built: Vec<Result<HullFace, HullError>> = tris
+    let built: Vec<Result<(HullFace, bool), HullError>> = tris
         .par_iter()
         .enumerate()
-        .map(|(f, t)| -> Result<HullFace, HullError> {
-            let corners = [p(t[0]), p(t[1]), p(t[2])];
+        .map(|(f, t)| -> Result<(HullFace, bool), HullError> {
             let first = topo.face_corners(f).start;
             let fe: [u32; 3] = std::array::from_fn(|c| topo.corner_edge(first + c as u32));
+            if let Some(pf) = prev.as_ref().and_then(|pr| pr.face(f, t)) {
+                return Ok((
+                    HullFace {
+                        edges: fe,
+                        ..pf.clone()
+                    },
+                    false,
+                ));
+            }
+            let corners = [p(t[0]), p(t[1]), p(t[2])];
             let convexity = classify_face(fe.map(|e| edges[e as usize].convexity));
             let longest = longest_edge(corners);
             let cross = (corners[1] - corners[0]).cross(corners[2] - corners[0]);
@@ -285,16 +329,12 @@ pub(crate) fn build(
                 };
                 let nearest = opts.apex == ApexPlacement::Nearest;
                 // A nonconvex face's two apexes are placed together (on one line through c).
-                let pair = (nearest && convexity == Convexity::Nonconvex && !cache.contains_key(t))
+                let pair = (nearest && convexity == Convexity::Nonconvex)
                     .then(|| nearest_apex_pair(corners, t.map(n), normal, margin, lean_floor))
                     .flatten();
-                let cached = cache.get(t);
                 let placed = |side: Side| -> Option<DVec3> {
                     if !nearest {
                         return None;
-                    }
-                    if let Some(c) = cached {
-                        return c[(side == Side::Negative) as usize];
                     }
                     if convexity == Convexity::Nonconvex {
                         return pair.map(|(u, v)| if side == Side::Positive { u } else { v });
@@ -333,18 +373,27 @@ pub(crate) fn build(
                 }
                 face.parameters = Some(params);
             }
-            Ok(face)
+            Ok((face, true))
         })
         .collect();
-    let faces: Vec<HullFace> = built.into_iter().collect::<Result<_, _>>()?;
+    let (faces, fresh_faces): (Vec<HullFace>, Vec<bool>) = built
+        .into_iter()
+        .collect::<Result<Vec<_>, _>>()?
+        .into_iter()
+        .unzip();
 
     // Edge tetrahedra (§3.2).
-    let done: Vec<Result<(), HullError>> = edges
+    let done: Vec<Result<bool, HullError>> = edges
         .par_iter_mut()
-        .map(|edge| -> Result<(), HullError> {
+        .map(|edge| -> Result<bool, HullError> {
             let (Some(face_l), Some(l)) = (edge.face_l, edge.l) else {
-                return Ok(()); // boundary: no edge tetrahedra
+                return Ok(true); // boundary: no edge tetrahedra
             };
+            if let Some(pe) = prev.as_ref().and_then(|pr| pr.edge(edge, &fresh_faces)) {
+                edge.positive = pe.positive;
+                edge.negative = pe.negative;
+                return Ok(false);
+            }
             let [i, j] = edge.vertices;
             for side in [Side::Positive, Side::Negative] {
                 let wanted = match side {
@@ -393,9 +442,70 @@ pub(crate) fn build(
                     Side::Negative => edge.negative = Some(et),
                 }
             }
-            Ok(())
+            Ok(true)
         })
         .collect();
-    done.into_iter().collect::<Result<(), _>>()?;
-    Ok((faces, edges))
+    let fresh_edges = done.into_iter().collect::<Result<Vec<bool>, _>>()?;
+    Ok(Built {
+        faces,
+        edges,
+        fresh_faces,
+        fresh_edges,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::refine::RefineState;
+    use algesurf_mesh::shapes::icosphere;
+
+    /// A refinement round reuses the faces and edges that survived it, and the result is the
+    /// hull a build from scratch gives; the fresh flags mark exactly the new elements.
+    #[test]
+    fn reused_round_equals_a_build_from_scratch() {
+        let mesh = icosphere(2);
+        let normals: Vec<DVec3> = mesh.positions().iter().map(|p| p.normalize()).collect();
+        let opts = HullOptions::default();
+        let face_map: Vec<u32> = (0..mesh.face_count() as u32).collect();
+        let first = build(&mesh, &normals, &face_map, &opts, None).unwrap();
+        assert!(first.fresh_faces.iter().all(|&f| f));
+        let mut state = RefineState::new(mesh.clone(), normals);
+        for f in [0u32, 17, 40, 111] {
+            let corners = state.mesh.triangles()[f as usize];
+            state.bisect_face(f, corners, 0).unwrap();
+        }
+        state.finish_round().unwrap();
+        let build_now = |prev| build(&state.mesh, &state.normals, &state.face_map, &opts, prev);
+        let reused = build_now(Some(PreviousRound {
+            faces: &first.faces,
+            edges: &first.edges,
+        }))
+        .unwrap();
+        let scratch = build_now(None).unwrap();
+        assert_eq!(reused.faces, scratch.faces);
+        assert_eq!(reused.edges, scratch.edges);
+        let mut survivors = 0;
+        for (f, face) in scratch.faces.iter().enumerate() {
+            let survived = first
+                .faces
+                .get(f)
+                .is_some_and(|pf| pf.vertices == face.vertices);
+            assert_eq!(reused.fresh_faces[f], !survived, "face {f}");
+            survivors += survived as usize;
+        }
+        let nf = scratch.faces.len();
+        assert!(survivors > nf / 2 && survivors < nf, "{survivors} of {nf}");
+        // An edge is reused exactly when both its faces survived with the same orientation.
+        let mut reused_edges = 0;
+        for (e, edge) in scratch.edges.iter().enumerate() {
+            let faces_fresh = reused.fresh_faces[edge.face_k as usize]
+                || edge.face_l.is_none_or(|l| reused.fresh_faces[l as usize]);
+            if faces_fresh {
+                assert!(reused.fresh_edges[e], "edge {e} reused next to a new face");
+            }
+            reused_edges += !reused.fresh_edges[e] as usize;
+        }
+        assert!(reused_edges > scratch.edges.len() / 2, "{reused_edges}");
+    }
 }

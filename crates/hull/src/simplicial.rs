@@ -4,8 +4,7 @@ use crate::bvh::Bvh;
 use crate::classify::Side;
 use crate::crossing::CrossingZone;
 use crate::hull::{
-    ApexCache, HullEdge, HullFace, apex_cache, build as build_faces_edges, check_input,
-    longest_edge,
+    Built, HullEdge, HullFace, PreviousRound, build as build_faces_edges, check_input, longest_edge,
 };
 use crate::overlap::depth_until;
 use crate::refine::RefineState;
@@ -14,82 +13,6 @@ use algesurf_mesh::TriMesh;
 use glam::DVec3;
 use rayon::prelude::*;
 use std::collections::HashMap;
-use std::collections::HashSet;
-
-/// Hashing for [`ElementKeys`]: the keys are vertex ids, not attacker-chosen, so the default
-/// SipHash's DoS resistance buys nothing. Multiply–rotate mixing per word (the `FxHash` scheme
-/// of rustc); equality is still decided on the whole key.
-#[derive(Default, Clone, Copy)]
-struct WordHasher(u64);
-
-impl std::hash::Hasher for WordHasher {
-    fn finish(&self) -> u64 {
-        self.0
-    }
-    fn write(&mut self, bytes: &[u8]) {
-        for chunk in bytes.chunks(8) {
-            let mut w = [0u8; 8];
-            w[..chunk.len()].copy_from_slice(chunk);
-            self.write_u64(u64::from_le_bytes(w));
-        }
-    }
-    fn write_u64(&mut self, w: u64) {
-        self.0 = (self.0.rotate_left(5) ^ w).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
-    }
-    fn write_u32(&mut self, w: u32) {
-        self.write_u64(w as u64);
-    }
-    fn write_u8(&mut self, w: u8) {
-        self.write_u64(w as u64);
-    }
-    fn write_usize(&mut self, w: usize) {
-        self.write_u64(w as u64);
-    }
-}
-
-type WordSet<K> = HashSet<K, std::hash::BuildHasherDefault<WordHasher>>;
-
-/// What decides an element's tetrahedra, so that an element with the same key in two rounds
-/// has bit-identical tetrahedra: a face's corners in their stored order (its apexes come from
-/// [`ApexCache`] under that key, its classification from its corners' positions and normals,
-/// which refinement never changes), an edge's two vertices and its two faces' keys (its
-/// tetrahedra join those faces' apexes).
-#[derive(Default)]
-struct ElementKeys {
-    faces: WordSet<[u32; 3]>,
-    edges: WordSet<[u32; 8]>,
-}
-
-impl ElementKeys {
-    fn edge_key(faces: &[HullFace], e: &HullEdge) -> Option<[u32; 8]> {
-        let l = faces[e.face_l? as usize].vertices;
-        let k = faces[e.face_k as usize].vertices;
-        let [i, j] = e.vertices;
-        Some([i, j, k[0], k[1], k[2], l[0], l[1], l[2]])
-    }
-
-    fn of(faces: &[HullFace], edges: &[HullEdge]) -> ElementKeys {
-        ElementKeys {
-            faces: faces.iter().map(|f| f.vertices).collect(),
-            edges: edges
-                .iter()
-                .filter_map(|e| Self::edge_key(faces, e))
-                .collect(),
-        }
-    }
-
-    /// Per tetrahedron of `tets` (of the hull with `faces`, `edges`): is its element new
-    /// since the round these keys are of.
-    fn fresh(&self, faces: &[HullFace], edges: &[HullEdge], tets: &[HullTetrahedron]) -> Vec<bool> {
-        tets.par_iter()
-            .map(|t| match t.element {
-                Element::Face(f) => !self.faces.contains(&faces[f as usize].vertices),
-                Element::Edge(e) => Self::edge_key(faces, &edges[e as usize])
-                    .is_none_or(|k| !self.edges.contains(&k)),
-            })
-            .collect()
-    }
-}
 
 /// The connected component (an index) of every face of `mesh`.
 fn components_of(mesh: &TriMesh) -> Vec<u32> {
@@ -290,9 +213,8 @@ impl SimplicialHull {
         let mut round = first_round;
         // The error to report if a refinement round makes the hull invalid.
         let mut pending: Option<HullError> = None;
-        // The previous round's tetrahedra (see `intersections_involving`).
-        let mut checked = ElementKeys::default();
-        let mut apexes = ApexCache::new();
+        // The previous round's faces and edges, reused where they survived.
+        let mut previous: Option<(Vec<HullFace>, Vec<HullEdge>)> = None;
         // The connected component of every input face: bisection keeps a face's children in
         // its component and joins no two, so a face's component in any round is its input
         // face's (`face_map`), and the mesh's components are found once, not every round.
@@ -316,9 +238,16 @@ impl SimplicialHull {
                 &state.normals,
                 &state.face_map,
                 options,
-                &apexes,
+                previous
+                    .as_ref()
+                    .map(|(faces, edges)| PreviousRound { faces, edges }),
             );
-            let (faces, edges) = match (built, pending.take()) {
+            let Built {
+                faces,
+                edges,
+                fresh_faces,
+                fresh_edges,
+            } = match (built, pending.take()) {
                 (Ok(x), _) => x,
                 (Err(e), None) => return Err(e),
                 (
@@ -363,9 +292,15 @@ impl SimplicialHull {
                     .map(|&g| input_component[g as usize])
                     .collect();
                 let tets = hull.tetrahedra();
-                let fresh: Option<Vec<bool>> =
-                    (round > first_round).then(|| checked.fresh(&hull.faces, &hull.edges, &tets));
-                checked = ElementKeys::of(&hull.faces, &hull.edges);
+                // Survivors were checked against each other in the previous round.
+                let fresh: Option<Vec<bool>> = previous.is_some().then(|| {
+                    tets.par_iter()
+                        .map(|t| match t.element {
+                            Element::Face(f) => fresh_faces[f as usize],
+                            Element::Edge(e) => fresh_edges[e as usize],
+                        })
+                        .collect()
+                });
                 hull.intersections_involving(&tets, fresh.as_deref())
                     .into_iter()
                     .filter(|h| !hull.unremovable(&component, &zone, &state.face_map, h))
@@ -383,7 +318,6 @@ impl SimplicialHull {
                     ..hull
                 });
             }
-            apexes = apex_cache(&hull.faces);
             let hit = &hits[0];
             let [a, b] = hull.edges[hull.conflict_edge(hit) as usize].vertices;
             let unresolved = |reason: String| HullError::UnresolvedIntersection {
@@ -423,6 +357,7 @@ impl SimplicialHull {
                 state.bisect_face(f, c, round)?;
             }
             state.finish_round()?;
+            previous = Some((hull.faces, hull.edges));
             round += 1;
         }
     }
@@ -644,19 +579,18 @@ impl SimplicialHull {
     /// involve at least one tetrahedron marked in `fresh` (all pairs for `None`), ordered by
     /// the pair's indices in `tets`.
     ///
-    /// Refinement rounds check only the new tetrahedra: those of an element whose
-    /// [`ElementKeys`] key was in the previous round's hull are bit-identical to that round's
-    /// (apexes depend only on their face's corners and normals, which a split of another face
-    /// leaves alone), and every pair of two such was checked then and did not overlap — had
-    /// it overlapped, its faces would have been bisected, changing both keys (overlaps left
-    /// alone as the input's are reported by [`SimplicialHull::distant_intersections`], which
-    /// checks every pair).
+    /// Refinement rounds check only the new tetrahedra: those of an element that survived the
+    /// round (`hull::PreviousRound`: a face with the same id and corners, an edge with two such
+    /// faces) are that round's, reused, not rebuilt, and every pair of two such was checked
+    /// then and did not overlap — had it overlapped, its faces would have been bisected,
+    /// changing their corners (overlaps left alone as the input's are reported by
+    /// [`SimplicialHull::distant_intersections`], which checks every pair).
     fn intersections_involving(
         &self,
         tets: &[HullTetrahedron],
         fresh: Option<&[bool]>,
     ) -> Vec<Intersection> {
-        let boxes = tets
+        let boxes: Vec<(DVec3, DVec3)> = tets
             .par_iter()
             .map(|t| {
                 let (mut lo, mut hi) = (t.vertices[0], t.vertices[0]);
@@ -667,13 +601,17 @@ impl SimplicialHull {
                 (lo, hi)
             })
             .collect();
-        let bvh = Bvh::new(boxes);
-        // One self-join of the tree, in parallel; every pair tested once.
         let tol = self.options.overlap_tolerance;
-        let mut pairs: Vec<(u32, u32, f64)> = bvh.pairs(fresh, |i, j| {
+        let test = |i: u32, j: u32| {
             let depth = depth_until(&tets[i as usize].vertices, &tets[j as usize].vertices, tol);
             (depth > tol).then_some((i, j, depth))
-        });
+        };
+        // All pairs: one self-join of a tree over every box, in parallel, every pair tested
+        // once; pairs with a fresh tetrahedron: a tree over the fresh ones, queried by all.
+        let mut pairs: Vec<(u32, u32, f64)> = match fresh {
+            None => Bvh::new(boxes).pairs(test),
+            Some(fresh) => Bvh::marked_pairs(&boxes, fresh, test),
+        };
         // Sorting makes the list (and the refinement driven by it) independent of the thread
         // count and of which tetrahedra were fresh.
         pairs.sort_unstable_by_key(|&(a, b, _)| (a, b));
