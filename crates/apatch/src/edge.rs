@@ -15,6 +15,7 @@ use crate::cubic;
 use crate::geometry::{exact_barycentric, gradient_from_partials, value_gradient_with};
 use crate::rational::edge_term;
 use crate::{ApatchError, FaceCubic};
+use algesurf_bb::sheet::square::Tensor3;
 use algesurf_bb::{BbPoly, Tetrahedron, multi_index};
 use glam::DVec3;
 
@@ -204,6 +205,55 @@ impl EdgeCubic {
         gradient_from_partials(&self.tet, dp, dr)
     }
 
+    /// The shooting polynomials (4.9) of every ray of the patch at once: coefficient `k` of
+    /// [`EdgeCubic::shooting_polynomial`]`(x, y)` as a polynomial of bidegree (3, 3) in
+    /// `(x, y)`, in tensor Bernstein form ([`Tensor3`], `c[i][j]` at `B_i^3(x) B_j^3(y)`).
+    ///
+    /// Coefficient `k` of the polynomial part is the blossom `b[q^{3−k}, u^k]` at the ray's
+    /// ends `q = x e_1 + (1 − x) e_2` and `u = (1 − y) e_0 + y e_3`
+    /// ([`EdgeCubic::ray_ends`]). Expanding each argument multi-affinely gives Bernstein
+    /// polynomials of degree `3 − k` in `x` and `k` in `y` whose coefficients are blossoms at
+    /// the tetrahedron's vertices, which are its BB coefficients: `B_i^{3−k}(x) B_j^k(y)`
+    /// carries `b_{(k−j, i, 3−k−i, j)}`. The rational part of `k = 2` is
+    /// `2y(1−y)(x·blend₁ + (1−x)·blend₂)` with `blend_m = (1−y)a_m + y b_m`, that is
+    /// `⅔ [B_1^3(y)(x a₁ + (1−x) a₂) + B_2^3(y)(x b₁ + (1−x) b₂)]`. Degree elevation to (3, 3)
+    /// is the only arithmetic, so the result is exact up to one rounding per elevation step;
+    /// sampling 16 rays and interpolating ([`interpolate_tensor3`]), as Step 6 did before,
+    /// costs 16 shooting polynomials and amplifies their rounding by the collocation
+    /// inverse's weights (up to 18/6).
+    ///
+    /// [`Tensor3`]: algesurf_bb::sheet::square::Tensor3
+    /// [`interpolate_tensor3`]: algesurf_bb::sheet::square::interpolate_tensor3
+    pub(crate) fn shooting_tensor(&self) -> [Tensor3; 4] {
+        let c = cubic::coeffs_of(&self.poly);
+        let mut out = [[[0.0; 4]; 4]; 4];
+        for (k, t) in out.iter_mut().enumerate() {
+            // Degree 3 − k in x, k in y, then elevated to 3 in each.
+            let nx = 3 - k;
+            let mut low = [[0.0; 4]; 4];
+            for (i, row) in low.iter_mut().enumerate().take(nx + 1) {
+                for (j, v) in row.iter_mut().enumerate().take(k + 1) {
+                    *v = c[cubic::rank3([k - j, i, nx - i, j])];
+                }
+            }
+            let rows: [[f64; 4]; 4] = std::array::from_fn(|i| elevate_to_cubic(low[i], k));
+            for j in 0..4 {
+                let col = elevate_to_cubic(std::array::from_fn(|i| rows[i][j]), nx);
+                for i in 0..4 {
+                    t[i][j] = col[i];
+                }
+            }
+        }
+        let [[a1, b1], [a2, b2]] = self.rational;
+        let linear = |f0: f64, f1: f64| [f0, (2.0 * f0 + f1) / 3.0, (f0 + 2.0 * f1) / 3.0, f1];
+        let (ya, yb) = (linear(a2, a1), linear(b2, b1));
+        for i in 0..4 {
+            out[2][i][1] += 2.0 / 3.0 * ya[i];
+            out[2][i][2] += 2.0 / 3.0 * yb[i];
+        }
+        out
+    }
+
     /// Coefficients of the shooting polynomial (4.9) from `q = x p_i + (1 − x) p_j` to
     /// `u = y u_k + (1 − y) u_l`.
     pub fn shooting_polynomial(&self, x: f64, y: f64) -> [f64; 4] {
@@ -218,5 +268,96 @@ impl EdgeCubic {
         // 6 t²(1−t) = 2 B_2^3(t).
         c[2] += 2.0 * y * (1.0 - y) * (x * blend1 + (1.0 - x) * blend2);
         c
+    }
+}
+
+/// The Bernstein coefficients of degree 3 of the polynomial with coefficients `c[..=n]` of
+/// degree `n ≤ 3`: `c'_r = Σ_i C(n, i) C(3 − n, r − i) / C(3, r) · c_i` (degree elevation,
+/// Farin, *Curves and Surfaces for CAGD*, §6.9, applied 3 − n times at once).
+fn elevate_to_cubic(c: [f64; 4], n: usize) -> [f64; 4] {
+    match n {
+        0 => [c[0]; 4],
+        1 => [
+            c[0],
+            (2.0 * c[0] + c[1]) / 3.0,
+            (c[0] + 2.0 * c[1]) / 3.0,
+            c[1],
+        ],
+        2 => [
+            c[0],
+            (c[0] + 2.0 * c[1]) / 3.0,
+            (2.0 * c[1] + c[2]) / 3.0,
+            c[2],
+        ],
+        _ => c,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_rng::Lcg;
+    use algesurf_bb::sheet::square::{interpolate_tensor3, tensor3_value};
+
+    /// The tensor form of the shooting polynomials is every ray's shooting polynomial: at
+    /// random `(x, y)`, and against interpolating 16 rays, for random cubics on both sides
+    /// (so the rational terms are nonzero).
+    #[test]
+    fn shooting_tensor_gives_every_rays_shooting_polynomial() {
+        let mut rng = Lcg(31);
+        for case in 0..20 {
+            let pi = DVec3::new(-1.0, 0.0, 0.0) + 0.2 * rng.vec();
+            let pj = DVec3::new(1.0, 0.0, 0.0) + 0.2 * rng.vec();
+            let side = |rng: &mut Lcg, y: f64| EdgeNeighbour {
+                tet: Tetrahedron::new([
+                    pi,
+                    pj,
+                    DVec3::new(0.0, y, -0.5) + 0.2 * rng.vec(),
+                    DVec3::new(0.0, 0.3 * y, 1.0) + 0.2 * rng.vec(),
+                ])
+                .unwrap(),
+                poly: BbPoly::new(3, (0..20).map(|_| 2.0 * rng.next() - 1.0).collect()).unwrap(),
+            };
+            let (k, l) = (side(&mut rng, 1.0), side(&mut rng, -1.0));
+            let e = EdgeCubic::from_neighbours(pi, pj, &k, &l).unwrap();
+            let r = e.rational();
+            assert!(
+                r.iter().flatten().any(|v| v.abs() > 1e-3),
+                "case {case}: {r:?}"
+            );
+            let t = e.shooting_tensor();
+            let nodes = |k: usize| -> Tensor3 {
+                std::array::from_fn(|a| {
+                    std::array::from_fn(|b| {
+                        e.shooting_polynomial(a as f64 / 3.0, b as f64 / 3.0)[k]
+                    })
+                })
+            };
+            for k in 0..4 {
+                let sampled = interpolate_tensor3(&nodes(k));
+                for i in 0..4 {
+                    for j in 0..4 {
+                        assert!(
+                            (t[k][i][j] - sampled[i][j]).abs() < 1e-13,
+                            "case {case}, k {k}, ({i}, {j}): {} vs {}",
+                            t[k][i][j],
+                            sampled[i][j]
+                        );
+                    }
+                }
+            }
+            for _ in 0..10 {
+                let (x, y) = (rng.next(), rng.next());
+                let direct = e.shooting_polynomial(x, y);
+                for k in 0..4 {
+                    let v = tensor3_value(&t[k], x, y);
+                    assert!(
+                        (v - direct[k]).abs() < 1e-13,
+                        "case {case}: {v} vs {}",
+                        direct[k]
+                    );
+                }
+            }
+        }
     }
 }

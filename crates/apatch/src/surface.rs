@@ -3,7 +3,7 @@
 use crate::geometry::apex_square;
 use crate::sheet::{CERTIFIED_GAP, CERTIFIED_MAX_CELLS, certified_face_bound, lifted_b_min};
 use crate::{ApatchError, EdgeCubic, EdgeNeighbour, FaceCubic, Quadric, SplitFace, VertexData};
-use algesurf_bb::sheet::square::{Tensor3, certified_square_lift_bound, interpolate_tensor3};
+use algesurf_bb::sheet::square::certified_square_lift_bound;
 use algesurf_hull::{Convexity, HullOptions, Side, SimplicialHull};
 use algesurf_mesh::TriMesh;
 use glam::DVec3;
@@ -605,19 +605,11 @@ pub(crate) fn edge_need(
         }
     };
     // The base and lift coefficients are polynomials of bidegree ≤ (3, 3) in (x, y)
-    // (`algesurf_bb::sheet::square`), so 16 rays give them exactly.
-    let at_nodes = |poly: &EdgeCubic, s: f64| -> [Tensor3; 4] {
-        let v: [[[f64; 4]; 4]; 4] = std::array::from_fn(|a| {
-            std::array::from_fn(|b| poly.shooting_polynomial(a as f64 / 3.0, b as f64 / 3.0))
-        });
-        std::array::from_fn(|k| {
-            interpolate_tensor3(&std::array::from_fn(|a| {
-                std::array::from_fn(|b| s * v[a][b][k])
-            }))
-        })
-    };
-    let base = at_nodes(cubic, sign);
-    let lifted = at_nodes(&lift, 1.0);
+    // (`algesurf_bb::sheet::square`), read off the cubics' BB coefficients.
+    let base = cubic
+        .shooting_tensor()
+        .map(|t| t.map(|row| row.map(|v| sign * v)));
+    let lifted = lift.shooting_tensor();
     let scale = cubic.polynomial().max_coeff_norm();
     let bound = certified_square_lift_bound(
         &base,
