@@ -45,13 +45,18 @@ pub struct EdgeNeighbour {
 impl FaceCubic {
     /// The [`EdgeNeighbour`] of this face for its edge `(pi, pj)`.
     pub fn edge_neighbour(&self, pi: DVec3, pj: DVec3) -> Result<EdgeNeighbour, ApatchError> {
+        Ok(EdgeNeighbour {
+            tet: *self.tetrahedron(),
+            poly: self.effective_polynomial(self.opposite_corner(pi, pj)?),
+        })
+    }
+
+    /// The local corner (0–2) opposite the face edge `(pi, pj)`.
+    pub(crate) fn opposite_corner(&self, pi: DVec3, pj: DVec3) -> Result<usize, ApatchError> {
         let v = self.tetrahedron().vertices();
         let find = |p: DVec3| (0..3).find(|&a| v[a] == p);
         match (find(pi), find(pj)) {
-            (Some(a), Some(b)) if a != b => Ok(EdgeNeighbour {
-                tet: *self.tetrahedron(),
-                poly: self.effective_polynomial(3 - a - b),
-            }),
+            (Some(a), Some(b)) if a != b => Ok(3 - a - b),
             _ => Err(ApatchError::Inconsistent(
                 "the face tetrahedron does not contain the edge".into(),
             )),
@@ -63,19 +68,26 @@ impl crate::SplitSide {
     /// The [`EdgeNeighbour`] of this side for the face edge `(pi, pj)`: the sub-tetrahedron
     /// `[p_b, p_c, centroid, apex]` that carries it.
     pub fn edge_neighbour(&self, pi: DVec3, pj: DVec3) -> Result<EdgeNeighbour, ApatchError> {
-        for a in 0..3 {
-            let t = &self.tets[a];
-            let has = |p: DVec3| t.vertex(0) == p || t.vertex(1) == p;
-            if has(pi) && has(pj) && pi != pj {
-                return Ok(EdgeNeighbour {
-                    tet: *t,
-                    poly: self.polys[a].clone(),
-                });
-            }
-        }
-        Err(ApatchError::Inconsistent(
-            "no sub-tetrahedron of the split face carries the edge".into(),
-        ))
+        let a = self.sub_tetrahedron_on(pi, pj)?;
+        Ok(EdgeNeighbour {
+            tet: self.tets[a],
+            poly: self.polys[a].clone(),
+        })
+    }
+
+    /// Which sub-tetrahedron carries the face edge `(pi, pj)`.
+    pub(crate) fn sub_tetrahedron_on(&self, pi: DVec3, pj: DVec3) -> Result<usize, ApatchError> {
+        (0..3)
+            .find(|&a| {
+                let t = &self.tets[a];
+                let has = |p: DVec3| t.vertex(0) == p || t.vertex(1) == p;
+                has(pi) && has(pj) && pi != pj
+            })
+            .ok_or_else(|| {
+                ApatchError::Inconsistent(
+                    "no sub-tetrahedron of the split face carries the edge".into(),
+                )
+            })
     }
 }
 

@@ -114,12 +114,37 @@ impl FaceFunction {
             }
             (FaceFunction::Split(split), Side::Positive) => split.sides[0].edge_neighbour(pi, pj),
             (FaceFunction::Split(split), Side::Negative) => split.sides[1].edge_neighbour(pi, pj),
-            _ => Err(ApatchError::Inconsistent(format!(
-                "an edge tetrahedron on the {} side borders a face with no tetrahedron there",
-                side.name()
-            ))),
+            _ => Err(no_tetrahedron_on(side)),
         }
     }
+
+    /// The tetrahedron of [`FaceFunction::edge_neighbour`] alone, without the polynomial
+    /// (Step 6's lift needs only the neighbours' apexes and corners).
+    pub(crate) fn edge_neighbour_tetrahedron(
+        &self,
+        side: Side,
+        pi: DVec3,
+        pj: DVec3,
+    ) -> Result<algesurf_bb::Tetrahedron, ApatchError> {
+        match (self, side) {
+            (FaceFunction::Convex { side: s, cubic }, _) if *s == side => {
+                cubic.opposite_corner(pi, pj)?;
+                Ok(*cubic.tetrahedron())
+            }
+            (FaceFunction::Split(split), Side::Positive | Side::Negative) => {
+                let half = &split.sides[(side == Side::Negative) as usize];
+                Ok(half.tets[half.sub_tetrahedron_on(pi, pj)?])
+            }
+            _ => Err(no_tetrahedron_on(side)),
+        }
+    }
+}
+
+fn no_tetrahedron_on(side: Side) -> ApatchError {
+    ApatchError::Inconsistent(format!(
+        "an edge tetrahedron on the {} side borders a face with no tetrahedron there",
+        side.name()
+    ))
 }
 
 /// The free parameter of one face side, with its admissible range.
@@ -566,17 +591,15 @@ pub(crate) fn edge_need(
     };
     let (pi, pj) = (pos[he.vertices[0] as usize], pos[he.vertices[1] as usize]);
     let sq = apex_square();
-    let k = faces[he.face_k as usize].edge_neighbour(side, pi, pj)?;
-    let l = faces[fl as usize].edge_neighbour(side, pi, pj)?;
     let lift = EdgeCubic::from_neighbours(
         pi,
         pj,
         &EdgeNeighbour {
-            tet: k.tet,
+            tet: faces[he.face_k as usize].edge_neighbour_tetrahedron(side, pi, pj)?,
             poly: sq.clone(),
         },
         &EdgeNeighbour {
-            tet: l.tet,
+            tet: faces[fl as usize].edge_neighbour_tetrahedron(side, pi, pj)?,
             poly: sq,
         },
     )?;

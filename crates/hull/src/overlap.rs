@@ -20,26 +20,62 @@ const FACES: [(usize, usize, usize); 4] = [(1, 2, 3), (0, 2, 3), (0, 1, 3), (0, 
 /// when they overlap: then no axis separates them, and the value bounds from below how far one
 /// must move one tetrahedron, in units of `D`, to separate them along the tried axes.
 ///
-/// Projections are taken relative to `a[0]`, so rounding scales with the tetrahedra's size, not
-/// with their distance from the origin: a shared vertex projects to bit-identical values and
-/// a shared face's vertices to values within a few ulps of `D`.
+/// Projections are taken relative to a vertex of the tetrahedra (a face's own first vertex for
+/// its normal, `a[0]` for the edge axes), so rounding scales with the tetrahedra's size, not
+/// with their distance from the origin: a shared vertex projects to values within a few ulps
+/// of `D` of the face's own.
 pub fn overlap_depth(a: &[DVec3; 4], b: &[DVec3; 4]) -> f64 {
-    depth_until(a, b, 0.0)
+    depth_until(a, &FacePlanes::of(a), b, &FacePlanes::of(b), 0.0)
+}
+
+/// A tetrahedron's four face planes, computed once for its many overlap tests: the unit normal
+/// of face `k` (the face opposite vertex `k`, [`FACES`]`[k]`) and the signed height of vertex
+/// `k` over it, both relative to the face's first vertex. A degenerate face has a zero normal
+/// and is skipped as an axis.
+///
+/// With them a face axis costs four dot products (the other tetrahedron's vertices) instead of
+/// a cross product, a square root and eight dot products: the tetrahedron's own projection is
+/// `{0, height}`, three vertices on the plane and one off it. On the Stanford bunny's first
+/// round (5.3 M candidate pairs) 97 % of the pairs are decided by a face axis (2.1 axes per
+/// pair on average), so this is most of the work of the check.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct FacePlanes {
+    normal: [DVec3; 4],
+    height: [f64; 4],
+}
+
+impl FacePlanes {
+    pub(crate) fn of(t: &[DVec3; 4]) -> FacePlanes {
+        let normal = FACES.map(|(i, j, k)| {
+            let w = (t[j] - t[i]).cross(t[k] - t[i]);
+            let len = w.length();
+            if len > 0.0 && len.is_finite() {
+                w / len
+            } else {
+                DVec3::ZERO
+            }
+        });
+        let height = std::array::from_fn(|k| normal[k].dot(t[k] - t[FACES[k].0]));
+        FacePlanes { normal, height }
+    }
 }
 
 /// [`overlap_depth`], except that it stops at the first axis whose relative overlap is at
-/// most `stop` and returns that value: `depth_until(a, b, tol) > tol` exactly when
+/// most `stop` and returns that value: `depth_until(a, …, tol) > tol` exactly when
 /// `overlap_depth(a, b) > tol` (both are the minimum over the same axes when that is above
 /// `tol`). Adjacent tetrahedra — most candidate pairs of a hull — touch along a shared face,
 /// edge or vertex, so some axis shows an overlap of 0 (up to rounding), not a negative one;
 /// stopping at the tolerance instead of below 0 lets them exit at that axis instead of
-/// trying all 44.
-pub(crate) fn depth_until(a: &[DVec3; 4], b: &[DVec3; 4], stop: f64) -> f64 {
-    let o = a[0];
-    let la: [DVec3; 4] = std::array::from_fn(|k| a[k] - o);
-    let lb: [DVec3; 4] = std::array::from_fn(|k| b[k] - o);
-    let (mut lo, mut hi) = (la[0], la[0]);
-    for p in la.iter().chain(lb.iter()) {
+/// trying all 44. `pa`, `pb` are the tetrahedra's [`FacePlanes`].
+pub(crate) fn depth_until(
+    a: &[DVec3; 4],
+    pa: &FacePlanes,
+    b: &[DVec3; 4],
+    pb: &FacePlanes,
+    stop: f64,
+) -> f64 {
+    let (mut lo, mut hi) = (a[0], a[0]);
+    for p in a.iter().chain(b.iter()) {
         lo = lo.min(*p);
         hi = hi.max(*p);
     }
@@ -48,38 +84,55 @@ pub(crate) fn depth_until(a: &[DVec3; 4], b: &[DVec3; 4], stop: f64) -> f64 {
         return 0.0;
     }
     let mut depth = f64::INFINITY;
-    let mut test = |w: DVec3| -> bool {
-        let len = w.length();
-        if len == 0.0 || !len.is_finite() {
-            return false;
-        }
-        let (mut amin, mut amax) = (f64::INFINITY, f64::NEG_INFINITY);
-        for p in &la {
-            let x = p.dot(w);
-            amin = amin.min(x);
-            amax = amax.max(x);
-        }
-        let (mut bmin, mut bmax) = (f64::INFINITY, f64::NEG_INFINITY);
-        for p in &lb {
-            let x = p.dot(w);
-            bmin = bmin.min(x);
-            bmax = bmax.max(x);
-        }
-        let ov = (amax.min(bmax) - amin.max(bmin)) / (len * d);
-        depth = depth.min(ov);
-        depth <= stop
-    };
-    for t in [&la, &lb] {
-        for &(i, j, k) in &FACES {
-            if test((t[j] - t[i]).cross(t[k] - t[i])) {
+    // Face axes: `t`'s own interval is {0, height}; `u`'s from its four vertices.
+    for (t, pt, u) in [(a, pa, b), (b, pb, a)] {
+        for k in 0..4 {
+            let n = pt.normal[k];
+            if n == DVec3::ZERO {
+                continue;
+            }
+            let o = t[FACES[k].0];
+            let (mut umin, mut umax) = (f64::INFINITY, f64::NEG_INFINITY);
+            for p in u {
+                let x = n.dot(*p - o);
+                umin = umin.min(x);
+                umax = umax.max(x);
+            }
+            let h = pt.height[k];
+            let ov = (h.max(0.0).min(umax) - h.min(0.0).max(umin)) / d;
+            depth = depth.min(ov);
+            if depth <= stop {
                 return depth;
             }
         }
     }
+    // Edge–edge axes, relative to `a[0]`.
+    let o = a[0];
+    let la: [DVec3; 4] = std::array::from_fn(|k| a[k] - o);
+    let lb: [DVec3; 4] = std::array::from_fn(|k| b[k] - o);
     for &(i, j) in &EDGES {
         let ea = la[j] - la[i];
         for &(k, l) in &EDGES {
-            if test(ea.cross(lb[l] - lb[k])) {
+            let w = ea.cross(lb[l] - lb[k]);
+            let len = w.length();
+            if len == 0.0 || !len.is_finite() {
+                continue;
+            }
+            let (mut amin, mut amax) = (f64::INFINITY, f64::NEG_INFINITY);
+            for p in &la {
+                let x = p.dot(w);
+                amin = amin.min(x);
+                amax = amax.max(x);
+            }
+            let (mut bmin, mut bmax) = (f64::INFINITY, f64::NEG_INFINITY);
+            for p in &lb {
+                let x = p.dot(w);
+                bmin = bmin.min(x);
+                bmax = bmax.max(x);
+            }
+            let ov = (amax.min(bmax) - amin.max(bmin)) / (len * d);
+            depth = depth.min(ov);
+            if depth <= stop {
                 return depth;
             }
         }
@@ -101,7 +154,7 @@ pub(crate) fn depth_until(a: &[DVec3; 4], b: &[DVec3; 4], stop: f64) -> f64 {
 /// assert!(tetrahedra_overlap(&a, &c, 1e-9));
 /// ```
 pub fn tetrahedra_overlap(a: &[DVec3; 4], b: &[DVec3; 4], tolerance: f64) -> bool {
-    depth_until(a, b, tolerance) > tolerance
+    depth_until(a, &FacePlanes::of(a), b, &FacePlanes::of(b), tolerance) > tolerance
 }
 
 #[cfg(test)]

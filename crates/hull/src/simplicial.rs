@@ -6,7 +6,7 @@ use crate::crossing::CrossingZone;
 use crate::hull::{
     Built, HullEdge, HullFace, PreviousRound, build as build_faces_edges, check_input, longest_edge,
 };
-use crate::overlap::depth_until;
+use crate::overlap::{FacePlanes, depth_until};
 use crate::refine::RefineState;
 use crate::{HullError, HullOptions};
 use algesurf_mesh::TriMesh;
@@ -601,9 +601,20 @@ impl SimplicialHull {
                 (lo, hi)
             })
             .collect();
+        let planes: Vec<FacePlanes> = tets
+            .par_iter()
+            .map(|t| FacePlanes::of(&t.vertices))
+            .collect();
         let tol = self.options.overlap_tolerance;
         let test = |i: u32, j: u32| {
-            let depth = depth_until(&tets[i as usize].vertices, &tets[j as usize].vertices, tol);
+            let (i_, j_) = (i as usize, j as usize);
+            let depth = depth_until(
+                &tets[i_].vertices,
+                &planes[i_],
+                &tets[j_].vertices,
+                &planes[j_],
+                tol,
+            );
             (depth > tol).then_some((i, j, depth))
         };
         // All pairs: one self-join of a tree over every box, in parallel, every pair tested
