@@ -5,6 +5,7 @@
 
 mod check;
 mod convert;
+mod deviation;
 mod info;
 mod render;
 mod smooth;

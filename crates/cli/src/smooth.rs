@@ -19,10 +19,8 @@ use algesurf_apatch::{
 use algesurf_io::{PATCH_ID, WriteOptions};
 use algesurf_mesh::{
     NormalMethod, PolygonMesh, Property, PropertyValues, RepairOptions, RepairReport, TriMesh,
-    TriangleBvh, repair, shapes, vertex_normals,
+    repair, shapes, vertex_normals,
 };
-use glam::DVec3;
-use rayon::prelude::*;
 use serde_json::json;
 
 /// Exit status when the surface was written but some rays missed or had multiple roots.
@@ -372,20 +370,6 @@ fn output_mesh(t: &Tessellation) -> PolygonMesh {
     mesh
 }
 
-/// Largest distance from an output vertex to the input mesh, and the input's bbox diagonal.
-fn max_deviation(input: &TriMesh, points: &[DVec3]) -> (f64, f64) {
-    let bvh = TriangleBvh::new(input);
-    let diag = {
-        let b = input.bounding_box();
-        (b.max - b.min).length()
-    };
-    let d = points
-        .par_iter()
-        .map(|&p| bvh.closest_point(p).map_or(f64::INFINITY, |c| c.distance))
-        .reduce(|| 0.0, f64::max);
-    (d, diag)
-}
-
 /// Writes `text` to `path` through a temporary file in the same directory and a rename.
 pub(crate) fn write_atomic(path: &Path, text: &str) -> Result<(), BoxError> {
     let dir = match path.parent() {
@@ -601,7 +585,11 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
     let tess = tess.map_err(|e| format!("{source}: cannot tessellate: {e}"))?;
 
     let ((deviation, diagonal), dt) = stage("checking", progress, || {
-        max_deviation(&tri, &tess.positions)
+        crate::deviation::max_deviation(
+            &tri,
+            &tess.positions,
+            &crate::deviation::input_face_hints(&surface, &tess),
+        )
     });
     t.check = dt;
     let min_margin = surface
