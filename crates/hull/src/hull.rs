@@ -9,6 +9,7 @@ use algesurf_bb::Tetrahedron;
 use algesurf_mesh::TriMesh;
 use glam::DVec3;
 use rayon::prelude::*;
+use std::sync::Mutex;
 
 /// A face tetrahedron `[p_i p_j p_k w]` of §3.1, `w` the apex `u_ijk` (positive side) or
 /// `v_ijk` (negative side).
@@ -166,6 +167,35 @@ pub(crate) fn check_input(mesh: &TriMesh, normals: &[DVec3]) -> Result<(), HullE
     Ok(())
 }
 
+/// `f(i)` for every `i < n`, in parallel, in index order; or the error of the least failing
+/// index, so the result does not depend on the thread count. The values are written straight
+/// into the result (a `Vec<Result<…>>` collected first and unpacked after cost two serial
+/// copies of every face and edge per refinement round: 45 MB of faces on the bunny); failed
+/// slots hold `filler()` until the error is returned.
+fn collect_first_error<T: Send>(
+    n: usize,
+    f: impl Fn(usize) -> Result<T, HullError> + Sync,
+    filler: impl Fn() -> T + Sync,
+) -> Result<Vec<T>, HullError> {
+    let first: Mutex<Option<(usize, HullError)>> = Mutex::new(None);
+    let out: Vec<T> = (0..n)
+        .into_par_iter()
+        .map(|i| {
+            f(i).unwrap_or_else(|e| {
+                let mut slot = first.lock().unwrap_or_else(|p| p.into_inner());
+                if slot.as_ref().is_none_or(|(j, _)| i < *j) {
+                    *slot = Some((i, e));
+                }
+                filler()
+            })
+        })
+        .collect();
+    match first.into_inner().unwrap_or_else(|p| p.into_inner()) {
+        Some((_, e)) => Err(e),
+        None => Ok(out),
+    }
+}
+
 /// The faces and edges of the previous refinement round, for [`build`] to reuse.
 ///
 /// Refinement splits faces in place and appends the new halves (`EditMesh::split_edge`), so a
@@ -227,9 +257,10 @@ pub(crate) fn build(
     let n = |v: u32| normals[v as usize];
 
     // Edges: orientation, faces, classification; in parallel, the first error in edge order.
-    let edges: Vec<Result<HullEdge, HullError>> = (0..topo.edge_count() as u32)
-        .into_par_iter()
-        .map(|e| {
+    let mut edges: Vec<HullEdge> = collect_first_error(
+        topo.edge_count(),
+        |e| {
+            let e = e as u32;
             let hs = topo.edge_half_edges(e);
             if hs.len() > 2 {
                 let [a, b] = topo.edge(e);
@@ -264,27 +295,37 @@ pub(crate) fn build(
                 positive: None,
                 negative: None,
             })
-        })
-        .collect();
-    let mut edges: Vec<HullEdge> = edges.into_iter().collect::<Result<_, _>>()?;
+        },
+        || HullEdge {
+            vertices: [0, 0],
+            convexity: Convexity::ZeroConvex,
+            slopes: [0.0; 2],
+            face_k: 0,
+            k: 0,
+            face_l: None,
+            l: None,
+            positive: None,
+            negative: None,
+        },
+    )?;
 
     // Faces: classification and face tetrahedra (§3.1).
     // Faces are independent of each other: built in parallel, the first error (in face
     // order) reported, so the result does not depend on the thread count.
-    let built: Vec<Result<(HullFace, bool), HullError>> = tris
-        .par_iter()
-        .enumerate()
-        .map(|(f, t)| -> Result<(HullFace, bool), HullError> {
-            let first = topo.face_corners(f).start;
-            let fe: [u32; 3] = std::array::from_fn(|c| topo.corner_edge(first + c as u32));
+    let face_edges = |f: usize| -> [u32; 3] {
+        let first = topo.face_corners(f).start;
+        std::array::from_fn(|c| topo.corner_edge(first + c as u32))
+    };
+    let faces: Vec<HullFace> = collect_first_error(
+        tris.len(),
+        |f| -> Result<HullFace, HullError> {
+            let t = &tris[f];
+            let fe = face_edges(f);
             if let Some(pf) = prev.as_ref().and_then(|pr| pr.face(f, t)) {
-                return Ok((
-                    HullFace {
-                        edges: fe,
-                        ..pf.clone()
-                    },
-                    false,
-                ));
+                return Ok(HullFace {
+                    edges: fe,
+                    ..pf.clone()
+                });
             }
             let corners = [p(t[0]), p(t[1]), p(t[2])];
             let convexity = classify_face(fe.map(|e| edges[e as usize].convexity));
@@ -373,14 +414,28 @@ pub(crate) fn build(
                 }
                 face.parameters = Some(params);
             }
-            Ok((face, true))
-        })
-        .collect();
-    let (faces, fresh_faces): (Vec<HullFace>, Vec<bool>) = built
-        .into_iter()
-        .collect::<Result<Vec<_>, _>>()?
-        .into_iter()
-        .unzip();
+            Ok(face)
+        },
+        || HullFace {
+            vertices: [0; 3],
+            source_face: 0,
+            convexity: Convexity::ZeroConvex,
+            edges: [0; 3],
+            centroid: DVec3::ZERO,
+            normal: DVec3::ZERO,
+            parameters: None,
+            positive: None,
+            negative: None,
+        },
+    )?;
+    let fresh_faces: Vec<bool> = match &prev {
+        None => vec![true; faces.len()],
+        Some(pr) => tris
+            .par_iter()
+            .enumerate()
+            .map(|(f, t)| pr.face(f, t).is_none())
+            .collect(),
+    };
 
     // Edge tetrahedra (§3.2).
     let done: Vec<Result<bool, HullError>> = edges
@@ -459,6 +514,34 @@ mod tests {
     use super::*;
     use crate::refine::RefineState;
     use algesurf_mesh::shapes::icosphere;
+
+    /// The least failing index's error is returned, whatever the thread count; without
+    /// errors the values come in index order.
+    #[test]
+    fn collect_first_error_reports_the_least_failing_index() {
+        let f = |i: usize| -> Result<usize, HullError> {
+            if i % 997 == 500 {
+                Err(HullError::NonManifoldEdge(i as u32, 0))
+            } else {
+                Ok(i * 2)
+            }
+        };
+        for threads in [1, 2, 4] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| {
+                let err = collect_first_error(10_000, f, || 0).unwrap_err();
+                assert!(
+                    matches!(err, HullError::NonManifoldEdge(500, 0)),
+                    "{threads} threads: {err}"
+                );
+                let ok = collect_first_error(400, f, || 0).unwrap();
+                assert_eq!(ok, (0..400).map(|i| i * 2).collect::<Vec<_>>());
+            });
+        }
+    }
 
     /// A refinement round reuses the faces and edges that survived it, and the result is the
     /// hull a build from scratch gives; the fresh flags mark exactly the new elements.
