@@ -6,6 +6,7 @@ use crate::{ApatchError, EdgeCubic, EdgeNeighbour, FaceCubic, Quadric, SplitFace
 use algesurf_bb::sheet::square::certified_square_lift_bound;
 use algesurf_hull::{Convexity, HullOptions, Side, SimplicialHull};
 use algesurf_mesh::TriMesh;
+use algesurf_mesh::parallel::collect_first_error;
 use glam::DVec3;
 use rayon::prelude::*;
 use std::collections::HashMap;
@@ -489,9 +490,11 @@ fn build_edges(
     faces: &[FaceFunction],
 ) -> Result<Vec<[Option<EdgeCubic>; 2]>, ApatchError> {
     let pos = hull.mesh().positions();
-    hull.edges()
-        .par_iter()
-        .map(|e| -> Result<[Option<EdgeCubic>; 2], ApatchError> {
+    // The first error in edge order, whatever the thread count.
+    collect_first_error(
+        hull.edges().len(),
+        |i| -> Result<[Option<EdgeCubic>; 2], ApatchError> {
+            let e = &hull.edges()[i];
             let (Some(fl), pi, pj) = (
                 e.face_l,
                 pos[e.vertices[0] as usize],
@@ -511,11 +514,9 @@ fn build_edges(
                 }
             }
             Ok(out)
-        })
-        .collect::<Vec<_>>()
-        .into_iter()
-        // The first error in edge order, whatever the thread count.
-        .collect()
+        },
+        || [None, None],
+    )
 }
 
 /// [`build_edges`] after the face sides in `raise` changed: only the edge cubics on a raised
@@ -757,19 +758,15 @@ fn build_function(
     let m = hull.mesh();
     let grads = hull.normals();
     let pos = m.positions();
-    let built: Vec<(FaceFunction, Vec<FreeParameter>)> = (0..m.face_count())
-        .into_par_iter()
-        .map(|f| build_face(hull, f, grads, pos, options))
-        .collect::<Vec<_>>()
-        .into_iter()
-        // The first error in face order, whatever the thread count.
-        .collect::<Result<_, _>>()?;
-    let mut faces = Vec::with_capacity(built.len());
-    let mut parameters = Vec::new();
-    for (ff, params) in built {
-        faces.push(ff);
-        parameters.extend(params);
-    }
+    // The first error in face order, whatever the thread count.
+    let built = collect_first_error(
+        m.face_count(),
+        |f| build_face(hull, f, grads, pos, options),
+        || (FaceFunction::Planar, Vec::new()),
+    )?;
+    let (mut faces, parameters): (Vec<FaceFunction>, Vec<Vec<FreeParameter>>) =
+        built.into_par_iter().unzip();
+    let mut parameters: Vec<FreeParameter> = parameters.into_iter().flatten().collect();
     let edges = build_edges(hull, &faces)?;
     // Step 6, second part: the edge A-patches need their own lower bound B_ijkl on a common
     // increment of the two faces' apex values; raise each face side by the largest

@@ -7,9 +7,9 @@ use crate::classify::{
 use crate::{ApexPlacement, HullError, HullOptions};
 use algesurf_bb::Tetrahedron;
 use algesurf_mesh::TriMesh;
+use algesurf_mesh::parallel::collect_first_error;
 use glam::DVec3;
 use rayon::prelude::*;
-use std::sync::Mutex;
 
 /// A face tetrahedron `[p_i p_j p_k w]` of §3.1, `w` the apex `u_ijk` (positive side) or
 /// `v_ijk` (negative side).
@@ -165,35 +165,6 @@ pub(crate) fn check_input(mesh: &TriMesh, normals: &[DVec3]) -> Result<(), HullE
         }
     }
     Ok(())
-}
-
-/// `f(i)` for every `i < n`, in parallel, in index order; or the error of the least failing
-/// index, so the result does not depend on the thread count. The values are written straight
-/// into the result (a `Vec<Result<…>>` collected first and unpacked after cost two serial
-/// copies of every face and edge per refinement round: 45 MB of faces on the bunny); failed
-/// slots hold `filler()` until the error is returned.
-fn collect_first_error<T: Send>(
-    n: usize,
-    f: impl Fn(usize) -> Result<T, HullError> + Sync,
-    filler: impl Fn() -> T + Sync,
-) -> Result<Vec<T>, HullError> {
-    let first: Mutex<Option<(usize, HullError)>> = Mutex::new(None);
-    let out: Vec<T> = (0..n)
-        .into_par_iter()
-        .map(|i| {
-            f(i).unwrap_or_else(|e| {
-                let mut slot = first.lock().unwrap_or_else(|p| p.into_inner());
-                if slot.as_ref().is_none_or(|(j, _)| i < *j) {
-                    *slot = Some((i, e));
-                }
-                filler()
-            })
-        })
-        .collect();
-    match first.into_inner().unwrap_or_else(|p| p.into_inner()) {
-        Some((_, e)) => Err(e),
-        None => Ok(out),
-    }
 }
 
 /// The faces and edges of the previous refinement round, for [`build`] to reuse.
@@ -514,34 +485,6 @@ mod tests {
     use super::*;
     use crate::refine::RefineState;
     use algesurf_mesh::shapes::icosphere;
-
-    /// The least failing index's error is returned, whatever the thread count; without
-    /// errors the values come in index order.
-    #[test]
-    fn collect_first_error_reports_the_least_failing_index() {
-        let f = |i: usize| -> Result<usize, HullError> {
-            if i % 997 == 500 {
-                Err(HullError::NonManifoldEdge(i as u32, 0))
-            } else {
-                Ok(i * 2)
-            }
-        };
-        for threads in [1, 2, 4] {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap();
-            pool.install(|| {
-                let err = collect_first_error(10_000, f, || 0).unwrap_err();
-                assert!(
-                    matches!(err, HullError::NonManifoldEdge(500, 0)),
-                    "{threads} threads: {err}"
-                );
-                let ok = collect_first_error(400, f, || 0).unwrap();
-                assert_eq!(ok, (0..400).map(|i| i * 2).collect::<Vec<_>>());
-            });
-        }
-    }
 
     /// A refinement round reuses the faces and edges that survived it, and the result is the
     /// hull a build from scratch gives; the fresh flags mark exactly the new elements.

@@ -59,6 +59,7 @@ mod butterfly_normal;
 pub use butterfly_normal::{BUTTERFLY_NORMAL_LEVELS, butterfly_limit_normal};
 mod folds;
 pub mod normals;
+pub mod parallel;
 pub use normals::{
     DEFAULT_MIN_NORMAL_COSINE, NormalMethod, STEEP_NORMAL_DEGREES, condition_normals,
     condition_vertex_normals, cone_axis, face_cone_axis, loop_limit_normal, unit_face_normals,
