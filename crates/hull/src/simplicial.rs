@@ -601,18 +601,27 @@ impl SimplicialHull {
                 (lo, hi)
             })
             .collect();
-        let planes: Vec<FacePlanes> = tets
-            .par_iter()
-            .map(|t| FacePlanes::of(&t.vertices))
-            .collect();
+        // Face planes once per tetrahedron when every pair is checked (each takes part in ~40
+        // candidate pairs on the bunny); computed per pair when only the few fresh ones are,
+        // where most tetrahedra take part in none.
+        let planes: Option<Vec<FacePlanes>> = fresh.is_none().then(|| {
+            tets.par_iter()
+                .map(|t| FacePlanes::of(&t.vertices))
+                .collect()
+        });
+        let plane = |i: usize| {
+            planes
+                .as_ref()
+                .map_or_else(|| FacePlanes::of(&tets[i].vertices), |p| p[i])
+        };
         let tol = self.options.overlap_tolerance;
         let test = |i: u32, j: u32| {
             let (i_, j_) = (i as usize, j as usize);
             let depth = depth_until(
                 &tets[i_].vertices,
-                &planes[i_],
+                &plane(i_),
                 &tets[j_].vertices,
-                &planes[j_],
+                &plane(j_),
                 tol,
             );
             (depth > tol).then_some((i, j, depth))
