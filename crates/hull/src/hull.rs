@@ -287,15 +287,24 @@ pub(crate) fn build(
         let first = topo.face_corners(f).start;
         std::array::from_fn(|c| topo.corner_edge(first + c as u32))
     };
+    // The faces that did not survive the previous round (all of them without one).
+    let fresh_faces: Vec<bool> = match &prev {
+        None => vec![true; tris.len()],
+        Some(pr) => tris
+            .par_iter()
+            .enumerate()
+            .map(|(f, t)| pr.face(f, t).is_none())
+            .collect(),
+    };
     let faces: Vec<HullFace> = collect_first_error(
         tris.len(),
         |f| -> Result<HullFace, HullError> {
             let t = &tris[f];
             let fe = face_edges(f);
-            if let Some(pf) = prev.as_ref().and_then(|pr| pr.face(f, t)) {
+            if let (false, Some(pr)) = (fresh_faces[f], &prev) {
                 return Ok(HullFace {
                     edges: fe,
-                    ..pf.clone()
+                    ..pr.faces[f].clone()
                 });
             }
             let corners = [p(t[0]), p(t[1]), p(t[2])];
@@ -399,14 +408,6 @@ pub(crate) fn build(
             negative: None,
         },
     )?;
-    let fresh_faces: Vec<bool> = match &prev {
-        None => vec![true; faces.len()],
-        Some(pr) => tris
-            .par_iter()
-            .enumerate()
-            .map(|(f, t)| pr.face(f, t).is_none())
-            .collect(),
-    };
 
     // Edge tetrahedra (§3.2).
     let done: Vec<Result<bool, HullError>> = edges
