@@ -203,6 +203,25 @@ pub fn certified_face_bound(
             return upper;
         }
     }
+    certified_triangle_b_min_below(
+        base_layers(poly, off, sign, low),
+        base,
+        CERTIFIED_GAP * scale,
+        CERTIFIED_MAX_CELLS,
+        enough,
+    )
+    .upper
+}
+
+/// The layers (w.r.t. the apex, vertex 3) of `sign · (poly − off)`, `off[k]` taken off layer
+/// `k`, with `low` (the rational face term's least blend value, already signed) added to the
+/// layer-0 coefficient at `(1, 1, 1)`: the base layers [`certified_face_bound`] bounds.
+fn base_layers(
+    poly: &BbPoly<f64, 4>,
+    off: [f64; 4],
+    sign: f64,
+    low: Option<f64>,
+) -> [BbPoly<f64, 3>; 4] {
     let layers = poly.layers::<3>(3).expect("vertex 3 of a tetrahedron");
     let mut layers: [BbPoly<f64, 3>; 4] =
         std::array::from_fn(|k| layers[k].map(|c| sign * (c - off[k])));
@@ -210,14 +229,7 @@ pub fn certified_face_bound(
         let c = layers[0].coeff([1, 1, 1]);
         layers[0].set([1, 1, 1], c + low);
     }
-    certified_triangle_b_min_below(
-        layers,
-        base,
-        CERTIFIED_GAP * scale,
-        CERTIFIED_MAX_CELLS,
-        enough,
-    )
-    .upper
+    layers
 }
 
 #[cfg(test)]
@@ -240,17 +252,15 @@ mod tests {
                 certified_face_bound(&poly, apex, sign, rational, 1.0, f64::INFINITY, |_| {
                     [0.0; 4]
                 });
-            let layers = poly.layers::<3>(3).unwrap();
             let off = [0.0, 0.0, apex / 3.0, apex];
-            let mut layers: [BbPoly<f64, 3>; 4] =
-                std::array::from_fn(|k| layers[k].map(|c| sign * (c - off[k])));
-            if let Some(r) = rational {
-                let low = r.iter().map(|x| sign * x).fold(f64::INFINITY, f64::min);
-                let c = layers[0].coeff([1, 1, 1]);
-                layers[0].set([1, 1, 1], c + low);
-            }
-            let slow =
-                certified_triangle_b_min_below(layers, |_| [0.0; 4], 1.0, 256, f64::INFINITY);
+            let low = rational.map(|r| r.iter().map(|x| sign * x).fold(f64::INFINITY, f64::min));
+            let slow = certified_triangle_b_min_below(
+                base_layers(&poly, off, sign, low),
+                |_| [0.0; 4],
+                1.0,
+                256,
+                f64::INFINITY,
+            );
             assert_eq!(fast.to_bits(), slow.upper.to_bits(), "case {case}");
             decided += fast.is_finite() as usize;
         }
