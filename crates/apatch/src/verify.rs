@@ -86,6 +86,29 @@ impl Piece<'_> {
 }
 
 impl ApatchSurface {
+    /// The mesh element that patch `patch` of a tessellation belongs to: face patches are
+    /// numbered by hull face, edge patches follow as `face_count + edge`
+    /// ([`crate::Tessellation::triangle_patch`]).
+    ///
+    /// ```
+    /// use algesurf_apatch::{ApatchSurface, Owner, SurfaceOptions};
+    /// use algesurf_mesh::shapes::icosphere;
+    /// let mesh = icosphere(0); // the icosahedron: 20 faces
+    /// assert_eq!(mesh.face_count(), 20);
+    /// let normals: Vec<_> = mesh.positions().iter().map(|p| p.normalize()).collect();
+    /// let s = ApatchSurface::new(&mesh, &normals, &SurfaceOptions::default())?;
+    /// assert_eq!(s.patch_owner(3), Owner::Face(3));
+    /// assert_eq!(s.patch_owner(20 + 7), Owner::Edge(7));
+    /// # Ok::<(), algesurf_apatch::ApatchError>(())
+    /// ```
+    pub fn patch_owner(&self, patch: u32) -> Owner {
+        let nf = self.hull().mesh().face_count();
+        match patch as usize {
+            p if p < nf => Owner::Face(p),
+            p => Owner::Edge(p - nf),
+        }
+    }
+
     /// All pieces of F.
     pub fn pieces(&self) -> Vec<Piece<'_>> {
         let mut out = Vec::new();

@@ -1,7 +1,7 @@
 //! The check stage's deviation figure: how far the smooth surface's points lie from the input
 //! mesh.
 
-use algesurf_apatch::{ApatchSurface, Tessellation};
+use algesurf_apatch::{ApatchSurface, Owner, Tessellation};
 use algesurf_mesh::primitives::closest_point_on_triangle;
 use algesurf_mesh::{TriMesh, TriangleBvh};
 use glam::DVec3;
@@ -24,14 +24,12 @@ pub(crate) fn max_deviation(input: &TriMesh, points: &[DVec3], hint: &[u32]) -> 
         let b = input.bounding_box();
         (b.max - b.min).length()
     };
-    let (pos, tris) = (input.positions(), input.triangles());
     let hint_distance = |p: DVec3, f: u32| -> f64 {
-        match tris.get(f as usize) {
-            Some(t) => {
-                let [a, b, c] = t.map(|v| pos[v as usize]);
-                closest_point_on_triangle(p, a, b, c).0.distance(p)
-            }
-            None => f64::INFINITY,
+        if (f as usize) < input.face_count() {
+            let [a, b, c] = input.triangle_points(f as usize);
+            closest_point_on_triangle(p, a, b, c).0.distance(p)
+        } else {
+            f64::INFINITY
         }
     };
     let d = points
@@ -57,13 +55,10 @@ pub(crate) fn max_deviation(input: &TriMesh, points: &[DVec3], hint: &[u32]) -> 
 /// `u32::MAX` for a vertex in no triangle.
 pub(crate) fn input_face_hints(surface: &ApatchSurface, tess: &Tessellation) -> Vec<u32> {
     let hull = surface.hull();
-    let nf = hull.faces().len();
     let input_face = |patch: u32| -> u32 {
-        let p = patch as usize;
-        let face = if p < nf {
-            p
-        } else {
-            hull.edges()[p - nf].face_k as usize
+        let face = match surface.patch_owner(patch) {
+            Owner::Face(f) => f,
+            Owner::Edge(e) => hull.edges()[e].face_k as usize,
         };
         hull.face_map()[face]
     };

@@ -44,12 +44,7 @@ impl<'a> ApatchView<'a> {
     }
 
     fn owner_of(&self, patch: u32) -> Owner {
-        let nf = self.surface.hull().mesh().face_count();
-        if (patch as usize) < nf {
-            Owner::Face(patch as usize)
-        } else {
-            Owner::Edge(patch as usize - nf)
-        }
+        self.surface.patch_owner(patch)
     }
 }
 
