@@ -42,7 +42,8 @@ mod fastmath;
 pub mod subdivision;
 
 pub use cubic::{
-    Branch, CardanoCubic, ShootingRoot, cubic_roots, cubic_roots_closed_form, shooting_root,
+    Branch, CardanoCubic, ShootingRoot, cubic_root_estimates, cubic_roots, cubic_roots_closed_form,
+    shooting_root,
 };
 pub use subdivision::{find_roots, find_roots_of, find_roots_with};
 

@@ -5,7 +5,7 @@
 
 pub mod square;
 use crate::multi_index;
-use crate::roots::{UNIT_ROUNDOFF as U, cubic_roots};
+use crate::roots::{UNIT_ROUNDOFF as U, cubic_root_estimates};
 use crate::{BbError, BbPoly};
 
 /// Which of the two bounds of Lemma 2.3 attains `b_min`.
@@ -50,7 +50,9 @@ pub struct LiftBound {
 /// * `(F_3/t²)' = 0 ⟺ F_3' t − 2F_3 = Dt³ − B₃t − 2A = 0` (cubic without t² term);
 /// * `g_2 = g_3 ⟺ 3F_2 − F_3 = 0` (cubic).
 ///
-/// The cubics are solved by [`cubic_roots`]. `b_min^(2)` takes t = 1 or the zero of the linear
+/// The cubics' roots are estimated by [`cubic_root_estimates`] (Cardano and Newton, no
+/// allocation): the candidates need no certificate (see the guarantee below), and a candidate
+/// within δ of a critical point moves the value by O(δ²), of a crossing by O(δ). `b_min^(2)` takes t = 1 or the zero of the linear
 /// `F_1` (the end of `{F_1 ≤ 0}`, which starts at t = 0 since `F_1(0) = b_0 < 0`) and the
 /// critical points of g_3 inside.
 ///
@@ -122,7 +124,8 @@ pub fn lemma_2_3_b_min(b: [f64; 4], beta: f64) -> Result<LiftBound, BbError> {
         m[0] + 2.0 * m[1] / 3.0 + m[2] / 3.0,
         m[0] + m[1] + m[2] + m[3],
     ];
-    let crit3 = roots_or_none(&h3)?;
+    let (crit3, n3) = cubic_root_estimates(h3);
+    let crit3 = &crit3[..n3];
     // 3F_2 − F_3 in Bernstein degree 3: F_2 elevated is (b0, (b0 + 2b1)/3, (2b1 + b2)/3, b2).
     let cross = [
         3.0 * b[0] - b[0],
@@ -130,7 +133,8 @@ pub fn lemma_2_3_b_min(b: [f64; 4], beta: f64) -> Result<LiftBound, BbError> {
         (2.0 * b[1] + b[2]) - b[2],
         3.0 * b[2] - b[3],
     ];
-    let crossings = roots_or_none(&cross)?;
+    let (crossings, nx) = cubic_root_estimates(cross);
+    let crossings = &crossings[..nx];
 
     let inside = |t: &f64| *t > 0.0 && *t <= 1.0;
     let mut best1 = (f64::INFINITY, 1.0);
@@ -173,15 +177,6 @@ pub fn lemma_2_3_b_min(b: [f64; 4], beta: f64) -> Result<LiftBound, BbError> {
         t_min,
         case,
     })
-}
-
-/// Roots in [0, 1] of a cubic in Bernstein form; an identically zero cubic has no isolated
-/// critical points or crossings (then every point is one and the other candidates cover it).
-fn roots_or_none(c: &[f64; 4]) -> Result<Vec<f64>, BbError> {
-    if c.iter().all(|x| *x == 0.0) {
-        return Ok(Vec::new());
-    }
-    Ok(cubic_roots(c)?.into_iter().map(|r| r.t).collect())
 }
 
 /// The lifting factor β of Step 6 (§4.2 of Xu–Huang–Bajaj 2001) for the edge A-patch's
