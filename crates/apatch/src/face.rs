@@ -25,7 +25,7 @@ use crate::geometry::{foot, gradient_from_partials, value_gradient_with};
 use crate::rational::face_term;
 use algesurf_bb::{BbPoly, Tetrahedron, continuity, multi_index};
 use glam::DVec3;
-use nalgebra::{DMatrix, DVector};
+use nalgebra::DMatrix;
 
 /// Position of a mesh vertex and the gradient of F there (the vertex normal scaled as the
 /// gradient: unit normals by default, see READING-NOTES on quadric precision).
@@ -78,6 +78,58 @@ fn solve_coefficient(
     }
     poly.set(lambda, (target - rest) / slope);
     Ok(())
+}
+
+/// The fixed least-squares problem of Step 5 (4.13): the degree elevation of a quadratic's 10
+/// BB coefficients to the 16 cubic coefficients of the layers `λ_3 ≤ 1`, and its
+/// pseudo-inverse.
+///
+/// The matrix depends on nothing but the multi-indices, so its SVD is taken once, not per
+/// face. Its singular values are O(1) (elevation weights `λ_i/3`); the cut 1e-12 drops
+/// exactly the direction of `q_0002`, which no row of `λ_3 ≤ 1` involves, so the
+/// minimum-norm solution sets it to 0 as the per-face SVD did.
+struct Step5 {
+    /// The multi-indices of the 16 rows (cubic coefficients with `λ_3 ≤ 1`).
+    rows: [[usize; 4]; 16],
+    /// Row `r`: `Σ_i (λ_i/3) q_{λ−e_i}`, the elevated coefficient, as weights of the 10 `q`s.
+    elevation: [[f64; 10]; 16],
+    /// `elevation⁺` (10 × 16).
+    pinv: [[f64; 16]; 10],
+}
+
+impl Step5 {
+    fn get() -> &'static Step5 {
+        static STEP5: std::sync::OnceLock<Step5> = std::sync::OnceLock::new();
+        STEP5.get_or_init(|| {
+            let mut rows = [[0usize; 4]; 16];
+            for (slot, l) in rows
+                .iter_mut()
+                .zip(multi_index::iter::<4>(3).filter(|l| l[3] <= 1))
+            {
+                *slot = l;
+            }
+            let mut elevation = [[0.0; 10]; 16];
+            for (row, l) in elevation.iter_mut().zip(&rows) {
+                for i in 0..4 {
+                    if l[i] > 0 {
+                        let mut k = *l;
+                        k[i] -= 1;
+                        row[multi_index::rank(&k)] += l[i] as f64 / 3.0;
+                    }
+                }
+            }
+            let a = DMatrix::<f64>::from_fn(16, 10, |r, c| elevation[r][c]);
+            let pinv = a
+                .svd(true, true)
+                .pseudo_inverse(1e-12)
+                .expect("the SVD was asked for both U and V");
+            Step5 {
+                rows,
+                elevation,
+                pinv: std::array::from_fn(|i| std::array::from_fn(|r| pinv[(i, r)])),
+            }
+        })
+    }
 }
 
 impl FaceCubic {
@@ -140,29 +192,22 @@ impl FaceCubic {
             solve_coefficient(&mut poly, l, m, dir, d.dot(mid_gradients[a]), "Step 4")?;
         }
         // Step 5 (4.13): least-squares quadratic q (10 BB coefficients) whose degree
-        // elevation matches the coefficients of layers 0 and 1 (16 equations).
-        let quad: Vec<[usize; 4]> = multi_index::iter::<4>(2).collect();
-        let rows: Vec<[usize; 4]> = multi_index::iter::<4>(3).filter(|l| l[3] <= 1).collect();
-        let mut a_mat = DMatrix::<f64>::zeros(rows.len(), quad.len());
-        let mut rhs = DVector::<f64>::zeros(rows.len());
-        for (r, l) in rows.iter().enumerate() {
-            rhs[r] = poly.coeff(*l);
-            for i in 0..4 {
-                if l[i] > 0 {
-                    let mut k = *l;
-                    k[i] -= 1;
-                    let col = multi_index::rank(&k);
-                    a_mat[(r, col)] += l[i] as f64 / 3.0;
-                }
-            }
-        }
-        // q_0002 never appears (λ_3 ≤ 1 rows); the SVD's minimum-norm solution sets it to 0.
-        let svd = a_mat.clone().svd(true, true);
-        let q = svd
-            .solve(&rhs, 1e-12)
-            .map_err(|e| ApatchError::Degenerate(format!("Step 5 least squares: {e}")))?;
-        let residual = (&a_mat * &q - &rhs).amax();
-        let scale = rhs.amax().max(f64::MIN_POSITIVE);
+        // elevation matches the coefficients of layers 0 and 1 (16 equations). The matrix is
+        // the same for every face, so its pseudo-inverse is computed once (`Step5::get`).
+        let step5 = Step5::get();
+        let rhs: [f64; 16] = step5.rows.map(|l| poly.coeff(l));
+        let q: [f64; 10] =
+            std::array::from_fn(|i| step5.pinv[i].iter().zip(&rhs).map(|(a, b)| a * b).sum());
+        let residual = step5
+            .elevation
+            .iter()
+            .zip(&rhs)
+            .map(|(row, r)| (row.iter().zip(&q).map(|(a, b)| a * b).sum::<f64>() - r).abs())
+            .fold(0.0f64, f64::max);
+        let scale = rhs
+            .iter()
+            .fold(0.0f64, |m, x| m.max(x.abs()))
+            .max(f64::MIN_POSITIVE);
         let q_layer1 = [0, 1, 2].map(|a| {
             let mut k = [0; 4];
             k[a] = 1;
