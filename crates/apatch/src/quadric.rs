@@ -101,58 +101,51 @@ impl Quadric {
         }
         // Local coordinates y = (x − centre)/h; Q(x) = h·q(y) with
         // q(y) = Σ_{k≤l} a_kl y_k y_l + Σ b_k y_k + c (10 unknowns), so ∇_x Q = ∇_y q.
-        let mut m = DMatrix::<f64>::zeros(samples.len() * 4, 10);
-        let mut r = DVector::<f64>::zeros(samples.len() * 4);
+        // Column-major, 4 rows (value, three gradient components) per sample.
+        let rows = samples.len() * 4;
+        let mut m = vec![0.0; rows * N];
+        let mut r = vec![0.0; rows];
         let pairs = [(0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2)];
         for (s, (x, n)) in samples.iter().enumerate() {
             let y = ((*x - centre) / h).to_array();
             let row = 4 * s;
             for (k, &(i, j)) in pairs.iter().enumerate() {
-                m[(row, k)] = y[i] * y[j];
-                // ∂(y_i y_j)/∂y_d
-                for d in 0..3 {
-                    let dv = if i == j {
-                        if d == i { 2.0 * y[i] } else { 0.0 }
-                    } else if d == i {
-                        y[j]
-                    } else if d == j {
-                        y[i]
-                    } else {
-                        0.0
-                    };
-                    m[(row + 1 + d, k)] = dv;
+                let col = &mut m[k * rows..(k + 1) * rows];
+                col[row] = y[i] * y[j];
+                // ∂(y_i y_j)/∂y_d: 2y_i for d = i = j; y_j for d = i ≠ j, y_i for d = j ≠ i.
+                if i == j {
+                    col[row + 1 + i] = 2.0 * y[i];
+                } else {
+                    col[row + 1 + i] = y[j];
+                    col[row + 1 + j] = y[i];
                 }
             }
             for d in 0..3 {
-                m[(row, 6 + d)] = y[d];
-                m[(row + 1 + d, 6 + d)] = 1.0;
+                let col = &mut m[(6 + d) * rows..(7 + d) * rows];
+                col[row] = y[d];
+                col[row + 1 + d] = 1.0;
             }
-            m[(row, 9)] = 1.0;
-            r[row] = 0.0;
+            m[9 * rows + row] = 1.0;
             let na = n.to_array();
-            for d in 0..3 {
-                r[row + 1 + d] = na[d];
-            }
+            r[row + 1..row + 4].copy_from_slice(&na);
         }
         // Householder QR first (`m = Q R`, Q with 10 orthonormal columns): then
         // `‖m x − r‖² = ‖R x − Qᵀr‖² + ‖(I − QQᵀ) r‖²`, so the minimum-norm least-squares
         // solution of `m` is that of the 10 × 10 `R` with right-hand side `Qᵀr`, and `R` has
         // `m`'s singular values (Q is orthonormal). The SVD then works on 10 × 10 instead of
         // 4k × 10 with its 4k × 10 U (Golub–Van Loan §5.4.5, "R-SVD").
-        let qr = m.qr();
-        let mut qtr = r;
-        qr.q_tr_mul(&mut qtr);
-        let rmat = qr.r();
+        let (rmat, qtr) = householder_r(&mut m, &mut r, rows);
         if let Some(q) = well_conditioned_solve(&rmat, &qtr) {
             return Ok(Quadric::from_local(&q, centre, h));
         }
+        let rmat = DMatrix::<f64>::from_fn(N, N, |i, j| rmat[i][j]);
         let svd = rmat.svd(true, true);
         // Singular values below 1e-10 of the largest are treated as zero: they are the
         // rank-deficient directions (coplanar data) or noise at the level of f64 rounding in
         // a system whose entries are O(1) by construction.
         let tol = 1e-10 * svd.singular_values.max();
         let q = svd
-            .solve(&qtr.rows(0, 10).into_owned(), tol)
+            .solve(&DVector::from_column_slice(&qtr), tol)
             .map_err(|e| ApatchError::Degenerate(format!("quadric fit: {e}")))?;
         Ok(Quadric::from_local(q.as_slice(), centre, h))
     }
@@ -182,6 +175,51 @@ impl Quadric {
     }
 }
 
+/// The number of unknowns of a quadric fit.
+const N: usize = 10;
+
+/// Householder QR of the column-major `rows × 10` matrix `m` (overwritten), applied to `r` as
+/// well: the upper-triangular `R` and the first 10 entries of `Qᵀr` (Golub–Van Loan
+/// Algorithm 5.2.1, with the reflector's sign chosen against cancellation, `α = −sign(x₀)‖x‖`).
+/// A column already zero below and on the diagonal takes no reflector. Needs `rows ≥ 10`.
+fn householder_r(m: &mut [f64], r: &mut [f64], rows: usize) -> ([[f64; N]; N], [f64; N]) {
+    debug_assert!(rows >= N && m.len() == rows * N && r.len() == rows);
+    let mut v = vec![0.0; rows];
+    for k in 0..N {
+        let col = &m[k * rows..(k + 1) * rows];
+        let norm = col[k..].iter().map(|x| x * x).sum::<f64>().sqrt();
+        if norm == 0.0 {
+            continue;
+        }
+        let alpha = if col[k] >= 0.0 { -norm } else { norm };
+        // v = x − α e₁, so H x = α e₁ with H = I − 2 v vᵀ / vᵀv.
+        v[k..].copy_from_slice(&col[k..]);
+        v[k] -= alpha;
+        let vv = v[k..].iter().map(|x| x * x).sum::<f64>();
+        if vv == 0.0 {
+            continue;
+        }
+        let reflect = |x: &mut [f64]| {
+            let s = 2.0 * v[k..].iter().zip(&x[k..]).map(|(a, b)| a * b).sum::<f64>() / vv;
+            for (xi, vi) in x[k..].iter_mut().zip(&v[k..]) {
+                *xi -= s * vi;
+            }
+        };
+        for j in k + 1..N {
+            reflect(&mut m[j * rows..(j + 1) * rows]);
+        }
+        reflect(r);
+        let col = &mut m[k * rows..(k + 1) * rows];
+        col[k] = alpha;
+        col[k + 1..].fill(0.0);
+    }
+    let rmat = std::array::from_fn(|i| {
+        std::array::from_fn(|j| if j >= i { m[j * rows + i] } else { 0.0 })
+    });
+    let qtr = std::array::from_fn(|i| r[i]);
+    (rmat, qtr)
+}
+
 /// `R⁻¹ b[0..10]` by back substitution when the 10 × 10 upper-triangular `R` is certifiably far
 /// from the SVD's rank cut, else `None`.
 ///
@@ -191,22 +229,18 @@ impl Quadric {
 /// relative `≈ cond · ε ≤ 1e-8`). Then the SVD solve truncates nothing and equals `R⁻¹ b` in
 /// exact arithmetic. Rank-deficient fits (coplanar neighbourhoods) fail the test and take the
 /// SVD.
-fn well_conditioned_solve(r: &DMatrix<f64>, b: &DVector<f64>) -> Option<[f64; 10]> {
-    const N: usize = 10;
-    if r.nrows() < N || r.ncols() != N {
-        return None;
-    }
+fn well_conditioned_solve(r: &[[f64; N]; N], b: &[f64; N]) -> Option<[f64; N]> {
     let mut inv = [[0.0f64; N]; N];
     // Column j of R⁻¹: back substitution on e_j (upper triangular, so rows ≤ j only).
     for j in 0..N {
         for i in (0..=j).rev() {
-            let d = r[(i, i)];
+            let d = r[i][i];
             if d == 0.0 || !d.is_finite() {
                 return None;
             }
             let mut s = if i == j { 1.0 } else { 0.0 };
             for k in i + 1..=j {
-                s -= r[(i, k)] * inv[k][j];
+                s -= r[i][k] * inv[k][j];
             }
             inv[i][j] = s / d;
         }
@@ -218,7 +252,7 @@ fn well_conditioned_solve(r: &DMatrix<f64>, b: &DVector<f64>) -> Option<[f64; 10
             .sum::<f64>()
             .sqrt()
     };
-    let cond = fro(&|i, j| r[(i, j)]) * fro(&|i, j| inv[i][j]);
+    let cond = fro(&|i, j| r[i][j]) * fro(&|i, j| inv[i][j]);
     // NaN (an overflowing inverse) fails the test too.
     if cond.is_nan() || cond >= 1e8 {
         return None;
@@ -227,9 +261,9 @@ fn well_conditioned_solve(r: &DMatrix<f64>, b: &DVector<f64>) -> Option<[f64; 10
     for i in (0..N).rev() {
         let mut s = b[i];
         for k in i + 1..N {
-            s -= r[(i, k)] * x[k];
+            s -= r[i][k] * x[k];
         }
-        x[i] = s / r[(i, i)];
+        x[i] = s / r[i][i];
     }
     Some(x)
 }
@@ -242,29 +276,71 @@ mod tests {
     #[test]
     fn back_substitution_only_where_the_svd_would_truncate_nothing() {
         // Well conditioned: the same solution as the SVD.
-        let r = DMatrix::<f64>::from_fn(10, 10, |i, j| {
-            if i == j {
-                2.0 + i as f64 * 0.1
-            } else if j > i {
-                ((i * 7 + j * 3) as f64).sin() * 0.3
-            } else {
-                0.0
-            }
+        let r: [[f64; N]; N] = std::array::from_fn(|i| {
+            std::array::from_fn(|j| {
+                if i == j {
+                    2.0 + i as f64 * 0.1
+                } else if j > i {
+                    ((i * 7 + j * 3) as f64).sin() * 0.3
+                } else {
+                    0.0
+                }
+            })
         });
-        let b = DVector::<f64>::from_fn(10, |i, _| (i as f64 * 0.7).cos());
+        let b: [f64; N] = std::array::from_fn(|i| (i as f64 * 0.7).cos());
         let fast = well_conditioned_solve(&r, &b).expect("well conditioned");
-        let svd = r.clone().svd(true, true);
-        let slow = svd.solve(&b, 1e-10 * svd.singular_values.max()).unwrap();
+        let svd = DMatrix::<f64>::from_fn(N, N, |i, j| r[i][j]).svd(true, true);
+        let slow = svd
+            .solve(
+                &DVector::from_column_slice(&b),
+                1e-10 * svd.singular_values.max(),
+            )
+            .unwrap();
         for (x, y) in fast.iter().zip(slow.iter()) {
             assert!((x - y).abs() < 1e-13, "{x} vs {y}");
         }
         // Rank deficient (a zero pivot) or nearly so: left to the SVD.
-        let mut singular = r.clone();
-        singular[(9, 9)] = 0.0;
+        let mut singular = r;
+        singular[9][9] = 0.0;
         assert!(well_conditioned_solve(&singular, &b).is_none());
         let mut near = r;
-        near[(4, 4)] = 1e-12;
+        near[4][4] = 1e-12;
         assert!(well_conditioned_solve(&near, &b).is_none());
+    }
+
+    /// The Householder `R` and `Qᵀr` give the least-squares solution that nalgebra's SVD of
+    /// the whole matrix gives, and `RᵀR = MᵀM` (R is M's triangular factor up to row signs);
+    /// with a zero column too (no reflector there).
+    #[test]
+    fn householder_r_is_the_triangular_factor() {
+        let rows = 24;
+        for zero_col in [None, Some(3)] {
+            let mut m: Vec<f64> = (0..rows * N)
+                .map(|i| ((i * 37 % 101) as f64 / 50.0 - 1.0) + if i % 11 == 0 { 0.5 } else { 0.0 })
+                .collect();
+            if let Some(c) = zero_col {
+                m[c * rows..(c + 1) * rows].fill(0.0);
+            }
+            let r: Vec<f64> = (0..rows).map(|i| (i as f64 * 0.37).sin()).collect();
+            let full = DMatrix::<f64>::from_column_slice(rows, N, &m);
+            let (rm, qtr) = householder_r(&mut m.clone(), &mut r.clone(), rows);
+            let rr = DMatrix::<f64>::from_fn(N, N, |i, j| rm[i][j]);
+            let gram = full.transpose() * &full;
+            assert!((rr.transpose() * &rr - &gram).amax() < 1e-12 * gram.amax());
+            let want = full
+                .clone()
+                .svd(true, true)
+                .solve(&DVector::from_column_slice(&r), 1e-10)
+                .unwrap();
+            let svd = rr.svd(true, true);
+            let got = svd
+                .solve(
+                    &DVector::from_column_slice(&qtr),
+                    1e-10 * svd.singular_values.max(),
+                )
+                .unwrap();
+            assert!((got - &want).amax() < 1e-12 * want.amax(), "{zero_col:?}");
+        }
     }
 
     #[test]
