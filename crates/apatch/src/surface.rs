@@ -591,18 +591,12 @@ pub(crate) fn edge_need(
         (Side::Negative, -1.0)
     };
     let (pi, pj) = (pos[he.vertices[0] as usize], pos[he.vertices[1] as usize]);
-    let sq = apex_square();
-    let lift = EdgeCubic::from_neighbours(
+    // The lift: how the edge cubic moves per unit of a common increment of both apex values.
+    let lift = EdgeCubic::apex_square_lift(
         pi,
         pj,
-        &EdgeNeighbour {
-            tet: faces[he.face_k as usize].edge_neighbour_tetrahedron(side, pi, pj)?,
-            poly: sq.clone(),
-        },
-        &EdgeNeighbour {
-            tet: faces[fl as usize].edge_neighbour_tetrahedron(side, pi, pj)?,
-            poly: sq,
-        },
+        &faces[he.face_k as usize].edge_neighbour_tetrahedron(side, pi, pj)?,
+        &faces[fl as usize].edge_neighbour_tetrahedron(side, pi, pj)?,
     )?;
     let two_sided = edges[e][0].is_some() && edges[e][1].is_some();
     // The exact need of one ray: −∞ where it needs nothing (it starts on this side's far
