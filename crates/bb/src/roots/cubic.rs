@@ -593,7 +593,8 @@ pub fn cubic_root_estimates(coeffs: [f64; 4]) -> ([f64; 3], usize) {
     for x in branches {
         // A root at s = 0 (t at the end) can come out a few ulps of the shift below 0.
         let s = x - cub.shift;
-        if !(s >= -16.0 * U * (x.abs() + cub.shift.abs())) || !s.is_finite() {
+        // (NaN fails `is_finite`, so a NaN branch is skipped too.)
+        if !s.is_finite() || s < -16.0 * U * (x.abs() + cub.shift.abs()) {
             continue;
         }
         let s = s.max(0.0);
