@@ -253,11 +253,16 @@ pub(crate) fn blossom_weights(a: [f64; 4], b: [f64; 4], d: [f64; 4]) -> Coeffs {
                 continue;
             }
             for k in 0..4 {
+                // A zero factor adds ±0 to the weight, which changes no sum: skipped (the
+                // mid-edge rows' `m` has two zero components).
+                if d[k] == 0.0 {
+                    continue;
+                }
                 let mut l = [0usize; 4];
                 l[i] += 1;
                 l[j] += 1;
                 l[k] += 1;
-                w[rank(l, 3)] += ab * d[k];
+                w[rank3(l)] += ab * d[k];
             }
         }
     }
