@@ -93,9 +93,48 @@ impl crate::SplitSide {
 
 /// The coefficient at `lambda` (indices on `verts`, given in the side's barycentric
 /// coordinates) of the side's polynomial re-expressed on the edge tetrahedron.
+///
+/// Most arguments are exact unit vectors: the edge's ends and the side's own apex are vertices
+/// of the side's tetrahedron (`exact_barycentric`). With at most one other argument `v` the
+/// blossom is one sum, `Σ_k v_k c_{μ+e_k}` (`μ` the unit arguments' indices), or a coefficient
+/// (`v` a unit vector too). That is bit for bit what [`cubic::blossom`]'s three de Casteljau
+/// steps give, whatever the argument order: a step with a unit vector adds one product with 1
+/// and three exact zeros, and a step with `v` forms that same sum in the same order.
 fn blossom_at(poly: &cubic::Coeffs, verts: &[[f64; 4]; 4], lambda: [usize; 4]) -> f64 {
-    let [a, b, d] = cubic::blossom_args(verts, lambda);
-    cubic::blossom(poly, a, b, d)
+    let mut mu = [0usize; 4];
+    let mut general = None;
+    for (s, &times) in lambda.iter().enumerate() {
+        for _ in 0..times {
+            match unit_index(&verts[s]) {
+                Some(k) => mu[k] += 1,
+                None if general.is_none() => general = Some(verts[s]),
+                None => {
+                    let [a, b, d] = cubic::blossom_args(verts, lambda);
+                    return cubic::blossom(poly, a, b, d);
+                }
+            }
+        }
+    }
+    match general {
+        None => poly[cubic::rank3(mu)],
+        Some(v) => {
+            let up = |k: usize| {
+                let mut l = mu;
+                l[k] += 1;
+                poly[cubic::rank3(l)]
+            };
+            v[0] * up(0) + v[1] * up(1) + v[2] * up(2) + v[3] * up(3)
+        }
+    }
+}
+
+/// `Some(k)` when `v` is the unit vector `e_k` exactly.
+fn unit_index(v: &[f64; 4]) -> Option<usize> {
+    let k = v.iter().position(|&x| x == 1.0)?;
+    v.iter()
+        .enumerate()
+        .all(|(i, &x)| i == k || x == 0.0)
+        .then_some(k)
 }
 
 impl EdgeCubic {
@@ -362,6 +401,36 @@ mod tests {
     use super::*;
     use crate::test_rng::Lcg;
     use algesurf_bb::sheet::square::{interpolate_tensor3, tensor3_value};
+
+    /// The shortcut of `blossom_at` gives the three-step blossom's bits, for every coefficient
+    /// with unit vectors and one general point among the arguments, in every position.
+    #[test]
+    fn blossom_at_unit_vectors_is_the_full_blossom_bit_for_bit() {
+        let mut rng = Lcg(11);
+        for _ in 0..50 {
+            let poly: cubic::Coeffs = std::array::from_fn(|_| 2.0 * rng.next() - 1.0);
+            let general = [0.3, -0.2, 1.1, -0.2].map(|x| x + 0.1 * rng.next());
+            for g in 0..4 {
+                // Vertex `g` general, the others unit vectors in some order.
+                let mut verts = [[0.0; 4]; 4];
+                let mut next = 0;
+                for (s, v) in verts.iter_mut().enumerate() {
+                    if s == g {
+                        *v = general;
+                    } else {
+                        v[(next + g) % 4] = 1.0;
+                        next += 1;
+                    }
+                }
+                for lambda in cubic::INDICES3 {
+                    let [a, b, d] = cubic::blossom_args(&verts, lambda);
+                    let full = cubic::blossom(&poly, a, b, d);
+                    let fast = blossom_at(&poly, &verts, lambda);
+                    assert_eq!(full.to_bits(), fast.to_bits(), "{verts:?} {lambda:?}");
+                }
+            }
+        }
+    }
 
     /// The closed-form lift is `from_neighbours` with both polynomials the apex square: every
     /// coefficient and rational term to rounding, on random neighbour tetrahedra.
