@@ -6,6 +6,7 @@
 // formulas they implement; iterator chains over zipped arrays would hide that.
 #![allow(clippy::needless_range_loop)]
 
+mod constrained;
 mod cubic;
 pub mod edge;
 pub mod error;
