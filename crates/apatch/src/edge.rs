@@ -14,9 +14,10 @@
 use crate::cubic;
 use crate::geometry::{exact_barycentric, gradient_from_partials, value_gradient_with};
 use crate::rational::edge_term;
-use crate::{ApatchError, FaceCubic};
+use crate::{ApatchError, FaceCubic, FaceFunction};
 use algesurf_bb::sheet::square::Tensor3;
-use algesurf_bb::{BbPoly, Tetrahedron, multi_index};
+use algesurf_bb::{BbPoly, Tetrahedron};
+use algesurf_hull::Side;
 use glam::DVec3;
 
 /// The rational cubic on an edge tetrahedron.
@@ -100,16 +101,16 @@ impl crate::SplitSide {
 /// (`v` a unit vector too). That is bit for bit what [`cubic::blossom`]'s three de Casteljau
 /// steps give, whatever the argument order: a step with a unit vector adds one product with 1
 /// and three exact zeros, and a step with `v` forms that same sum in the same order.
-fn blossom_at(poly: &cubic::Coeffs, verts: &[[f64; 4]; 4], lambda: [usize; 4]) -> f64 {
+fn blossom_at(poly: &cubic::Coeffs, verts: &Verts, lambda: [usize; 4]) -> f64 {
     let mut mu = [0usize; 4];
     let mut general = None;
     for (s, &times) in lambda.iter().enumerate() {
         for _ in 0..times {
-            match unit_index(&verts[s]) {
+            match verts.unit[s] {
                 Some(k) => mu[k] += 1,
-                None if general.is_none() => general = Some(verts[s]),
+                None if general.is_none() => general = Some(verts.at[s]),
                 None => {
-                    let [a, b, d] = cubic::blossom_args(verts, lambda);
+                    let [a, b, d] = cubic::blossom_args(&verts.at, lambda);
                     return cubic::blossom(poly, a, b, d);
                 }
             }
@@ -124,6 +125,22 @@ fn blossom_at(poly: &cubic::Coeffs, verts: &[[f64; 4]; 4], lambda: [usize; 4]) -
                 poly[cubic::rank3(l)]
             };
             v[0] * up(0) + v[1] * up(1) + v[2] * up(2) + v[3] * up(3)
+        }
+    }
+}
+
+/// The edge tetrahedron's vertices in one side's barycentric coordinates, and which of them
+/// are exact unit vectors (`unit[s] = Some(k)` for `e_k`), for [`blossom_at`].
+struct Verts {
+    at: [[f64; 4]; 4],
+    unit: [Option<usize>; 4],
+}
+
+impl Verts {
+    fn new(at: [[f64; 4]; 4]) -> Verts {
+        Verts {
+            unit: at.map(|v| unit_index(&v)),
+            at,
         }
     }
 }
@@ -162,30 +179,52 @@ impl EdgeCubic {
         k: &EdgeNeighbour,
         l: &EdgeNeighbour,
     ) -> Result<Self, ApatchError> {
-        let uk = k.tet.vertex(3);
-        let ul = l.tet.vertex(3);
+        Self::from_parts(
+            pi,
+            pj,
+            (&k.tet, &cubic::coeffs_of(&k.poly)),
+            (&l.tet, &cubic::coeffs_of(&l.poly)),
+        )
+    }
+
+    /// The edge cubic on `side` of the edge `(pi, pj)` between the faces `face_k` and
+    /// `face_l` ([`EdgeCubic::from_neighbours`] of their [`FaceFunction::edge_neighbour`]s,
+    /// without copying a tetrahedron or allocating a polynomial).
+    pub(crate) fn between(
+        face_k: &FaceFunction,
+        face_l: &FaceFunction,
+        side: Side,
+        pi: DVec3,
+        pj: DVec3,
+    ) -> Result<Self, ApatchError> {
+        let (tk, ck) = face_k.edge_neighbour_parts(side, pi, pj)?;
+        let (tl, cl) = face_l.edge_neighbour_parts(side, pi, pj)?;
+        Self::from_parts(pi, pj, (tk, &ck), (tl, &cl))
+    }
+
+    /// [`EdgeCubic::from_neighbours`] from each side's tetrahedron and coefficients.
+    fn from_parts(
+        pi: DVec3,
+        pj: DVec3,
+        (tk, pk): (&Tetrahedron, &cubic::Coeffs),
+        (tl, pl): (&Tetrahedron, &cubic::Coeffs),
+    ) -> Result<Self, ApatchError> {
+        let uk = tk.vertex(3);
+        let ul = tl.vertex(3);
         let tet = Tetrahedron::new([ul, pi, pj, uk])?;
-        let side = |n: &EdgeNeighbour| -> (cubic::Coeffs, [[f64; 4]; 4]) {
-            let t = &n.tet;
+        let verts = |t: &Tetrahedron| {
             let bary = |p: DVec3| exact_barycentric(t, p);
-            (
-                cubic::coeffs_of(&n.poly),
-                [bary(ul), bary(pi), bary(pj), bary(uk)],
-            )
+            Verts::new([bary(ul), bary(pi), bary(pj), bary(uk)])
         };
-        let (pk, vk) = side(k);
-        let (pl, vl) = side(l);
-        let mut poly = BbPoly::<f64, 4>::zero(3);
+        let (vk, vl) = (verts(tk), verts(tl));
+        let norm = |c: &cubic::Coeffs| c.iter().map(|x| x.abs()).fold(0.0, f64::max);
+        let scale = norm(pk).max(norm(pl)).max(f64::MIN_POSITIVE);
+        let mut coeffs = [0.0; 20];
         let mut mismatch: f64 = 0.0;
-        let scale = k
-            .poly
-            .max_coeff_norm()
-            .max(l.poly.max_coeff_norm())
-            .max(f64::MIN_POSITIVE);
         let mut rational = [[0.0; 2]; 2];
-        for lambda in multi_index::iter::<4>(3) {
-            let from_k = (lambda[0] <= 1).then(|| blossom_at(&pk, &vk, lambda));
-            let from_l = (lambda[3] <= 1).then(|| blossom_at(&pl, &vl, lambda));
+        for (lambda, slot) in cubic::INDICES3.into_iter().zip(coeffs.iter_mut()) {
+            let from_k = (lambda[0] <= 1).then(|| blossom_at(pk, &vk, lambda));
+            let from_l = (lambda[3] <= 1).then(|| blossom_at(pl, &vl, lambda));
             match lambda {
                 [1, 1, 0, 1] | [1, 0, 1, 1] => {
                     let m = if lambda[1] == 1 { 0 } else { 1 };
@@ -194,17 +233,17 @@ impl EdgeCubic {
                 _ => match (from_k, from_l) {
                     (Some(k), Some(l)) => {
                         mismatch = mismatch.max((k - l).abs() / scale);
-                        poly.set(lambda, k);
+                        *slot = k;
                     }
-                    (Some(k), None) => poly.set(lambda, k),
-                    (None, Some(l)) => poly.set(lambda, l),
+                    (Some(k), None) => *slot = k,
+                    (None, Some(l)) => *slot = l,
                     (None, None) => unreachable!("λ0 + λ3 ≤ 3 means one of them is ≤ 1"),
                 },
             }
         }
         Ok(EdgeCubic {
             tet,
-            poly,
+            poly: BbPoly::new(3, coeffs.to_vec()).expect("20 coefficients"),
             rational,
             overlap_mismatch: mismatch,
         })
@@ -425,7 +464,7 @@ mod tests {
                 for lambda in cubic::INDICES3 {
                     let [a, b, d] = cubic::blossom_args(&verts, lambda);
                     let full = cubic::blossom(&poly, a, b, d);
-                    let fast = blossom_at(&poly, &verts, lambda);
+                    let fast = blossom_at(&poly, &Verts::new(verts), lambda);
                     assert_eq!(full.to_bits(), fast.to_bits(), "{verts:?} {lambda:?}");
                 }
             }

@@ -266,10 +266,14 @@ impl FaceCubic {
     /// tetrahedron (the face `[p_b p_c apex]` shared with an edge tetrahedron): the rational
     /// term contributes exactly `rational[a]` to the centre coefficient there.
     pub fn effective_polynomial(&self, a: usize) -> BbPoly<f64, 4> {
-        let mut p = self.poly.clone();
-        let c = [1, 1, 1, 0];
-        p.set(c, p.coeff(c) + self.rational[a]);
-        p
+        BbPoly::new(3, self.effective_coeffs(a).to_vec()).expect("20 coefficients")
+    }
+
+    /// The coefficients of [`FaceCubic::effective_polynomial`], without allocating.
+    pub(crate) fn effective_coeffs(&self, a: usize) -> cubic::Coeffs {
+        let mut c = cubic::coeffs_of(&self.poly);
+        c[cubic::rank3([1, 1, 1, 0])] += self.rational[a];
+        c
     }
 
     /// F at barycentric coordinates `tau`.

@@ -197,8 +197,12 @@ impl ApatchSurface {
         let fl = he
             .face_l
             .ok_or_else(|| ApatchError::Inconsistent(format!("edge {e} is a boundary edge")))?;
-        let k = self.faces[he.face_k as usize].edge_neighbour(side, pi, pj)?;
-        let l = self.faces[fl as usize].edge_neighbour(side, pi, pj)?;
-        EdgeCubic::from_neighbours(pi, pj, &k, &l)
+        EdgeCubic::between(
+            &self.faces[he.face_k as usize],
+            &self.faces[fl as usize],
+            side,
+            pi,
+            pj,
+        )
     }
 }

@@ -119,22 +119,45 @@ impl FaceFunction {
         }
     }
 
-    /// The tetrahedron of [`FaceFunction::edge_neighbour`] alone, without the polynomial
-    /// (Step 6's lift needs only the neighbours' apexes and corners).
+    /// The tetrahedron and the coefficients of [`FaceFunction::edge_neighbour`], borrowed and
+    /// on the stack (the edge cubics are built from these for every edge side: no copy of the
+    /// tetrahedron, no allocation).
+    pub(crate) fn edge_neighbour_parts(
+        &self,
+        side: Side,
+        pi: DVec3,
+        pj: DVec3,
+    ) -> Result<(&algesurf_bb::Tetrahedron, crate::cubic::Coeffs), ApatchError> {
+        match (self, side) {
+            (FaceFunction::Convex { side: s, cubic }, _) if *s == side => {
+                let a = cubic.opposite_corner(pi, pj)?;
+                Ok((cubic.tetrahedron(), cubic.effective_coeffs(a)))
+            }
+            (FaceFunction::Split(split), Side::Positive | Side::Negative) => {
+                let half = &split.sides[(side == Side::Negative) as usize];
+                let a = half.sub_tetrahedron_on(pi, pj)?;
+                Ok((&half.tets[a], crate::cubic::coeffs_of(&half.polys[a])))
+            }
+            _ => Err(no_tetrahedron_on(side)),
+        }
+    }
+
+    /// The tetrahedron of [`FaceFunction::edge_neighbour`] alone (Step 6's lift needs only the
+    /// neighbours' apexes and corners).
     pub(crate) fn edge_neighbour_tetrahedron(
         &self,
         side: Side,
         pi: DVec3,
         pj: DVec3,
-    ) -> Result<algesurf_bb::Tetrahedron, ApatchError> {
+    ) -> Result<&algesurf_bb::Tetrahedron, ApatchError> {
         match (self, side) {
             (FaceFunction::Convex { side: s, cubic }, _) if *s == side => {
                 cubic.opposite_corner(pi, pj)?;
-                Ok(*cubic.tetrahedron())
+                Ok(cubic.tetrahedron())
             }
             (FaceFunction::Split(split), Side::Positive | Side::Negative) => {
                 let half = &split.sides[(side == Side::Negative) as usize];
-                Ok(half.tets[half.sub_tetrahedron_on(pi, pj)?])
+                Ok(&half.tets[half.sub_tetrahedron_on(pi, pj)?])
             }
             _ => Err(no_tetrahedron_on(side)),
         }
@@ -508,9 +531,13 @@ fn build_edges(
                 (1, Side::Negative, e.negative.is_some()),
             ] {
                 if present {
-                    let k = faces[e.face_k as usize].edge_neighbour(side, pi, pj)?;
-                    let l = faces[fl as usize].edge_neighbour(side, pi, pj)?;
-                    out[slot] = Some(EdgeCubic::from_neighbours(pi, pj, &k, &l)?);
+                    out[slot] = Some(EdgeCubic::between(
+                        &faces[e.face_k as usize],
+                        &faces[fl as usize],
+                        side,
+                        pi,
+                        pj,
+                    )?);
                 }
             }
             Ok(out)
@@ -542,9 +569,13 @@ fn rebuild_raised_edges(
                 let raised = raise.contains_key(&(e.face_k as usize, side))
                     || raise.contains_key(&(fl as usize, side));
                 if raised && slots[slot].is_some() {
-                    let k = faces[e.face_k as usize].edge_neighbour(side, pi, pj)?;
-                    let l = faces[fl as usize].edge_neighbour(side, pi, pj)?;
-                    slots[slot] = Some(EdgeCubic::from_neighbours(pi, pj, &k, &l)?);
+                    slots[slot] = Some(EdgeCubic::between(
+                        &faces[e.face_k as usize],
+                        &faces[fl as usize],
+                        side,
+                        pi,
+                        pj,
+                    )?);
                 }
             }
             Ok(())
@@ -595,8 +626,8 @@ pub(crate) fn edge_need(
     let lift = EdgeCubic::apex_square_lift(
         pi,
         pj,
-        &faces[he.face_k as usize].edge_neighbour_tetrahedron(side, pi, pj)?,
-        &faces[fl as usize].edge_neighbour_tetrahedron(side, pi, pj)?,
+        faces[he.face_k as usize].edge_neighbour_tetrahedron(side, pi, pj)?,
+        faces[fl as usize].edge_neighbour_tetrahedron(side, pi, pj)?,
     )?;
     let two_sided = edges[e][0].is_some() && edges[e][1].is_some();
     // The exact need of one ray: −∞ where it needs nothing (it starts on this side's far
