@@ -166,3 +166,48 @@ fn hull_is_scale_and_translation_invariant() {
     }
     assert!(b.intersections().is_empty());
 }
+
+/// `tetrahedra()` lists every face's tetrahedra in face order (positive before negative),
+/// then every edge's in edge order, on a mesh of several thousand elements (more than one of
+/// the blocks it is written in) with faces and edges of every kind.
+#[test]
+fn tetrahedra_are_listed_in_element_order() {
+    use algesurf_hull::HullTetrahedron;
+    let (p, t, n) = common::height_field(48, common::wave(0.05, 3.0));
+    let hull = SimplicialHull::new(&p, &t, &n, &HullOptions::default()).unwrap();
+    let sides = |pos: Option<(Side, [DVec3; 4])>, neg: Option<(Side, [DVec3; 4])>| {
+        [pos, neg].into_iter().flatten()
+    };
+    let mut want: Vec<HullTetrahedron> = Vec::new();
+    for (f, face) in hull.faces().iter().enumerate() {
+        let of = |t: &Option<algesurf_hull::FaceTetrahedron>| {
+            t.as_ref().map(|t| (t.side, *t.tetrahedron.vertices()))
+        };
+        for (side, vertices) in sides(of(&face.positive), of(&face.negative)) {
+            want.push(HullTetrahedron {
+                element: Element::Face(f as u32),
+                side,
+                vertices,
+            });
+        }
+    }
+    for (e, edge) in hull.edges().iter().enumerate() {
+        let of = |t: &Option<algesurf_hull::EdgeTetrahedron>| {
+            t.as_ref().map(|t| (t.side, *t.tetrahedron.vertices()))
+        };
+        for (side, vertices) in sides(of(&edge.positive), of(&edge.negative)) {
+            want.push(HullTetrahedron {
+                element: Element::Edge(e as u32),
+                side,
+                vertices,
+            });
+        }
+    }
+    let negative = want.iter().filter(|t| t.side == Side::Negative).count();
+    assert!(
+        hull.faces().len() + hull.edges().len() > 2 * 4096 && negative > 100,
+        "{} elements, {negative} negative tetrahedra",
+        hull.faces().len() + hull.edges().len()
+    );
+    assert_eq!(hull.tetrahedra(), want);
+}
