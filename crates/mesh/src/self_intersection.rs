@@ -2,9 +2,7 @@
 
 use crate::TriMesh;
 use crate::bvh::TriangleBvh;
-use crate::geometry::Aabb;
 use crate::primitives::{longest_edge_length, triangle_overlap_depth};
-use rayon::prelude::*;
 
 /// Relative depth beyond which two triangles count as crossing in [`self_intersections`]:
 /// `1e-9` of the longer of their longest edges. Rounding in [`triangle_overlap_depth`] is a
@@ -45,33 +43,25 @@ pub const SELF_INTERSECTION_TOLERANCE: f64 = 1e-9;
 pub fn self_intersections(mesh: &TriMesh) -> Vec<[u32; 2]> {
     let bvh = TriangleBvh::new(mesh);
     let tris = mesh.triangles();
-    // One box query per face, in parallel (each pair is taken by its smaller face); the sort
-    // makes the result independent of the thread count.
-    let mut out: Vec<[u32; 2]> = (0..tris.len())
-        .into_par_iter()
-        .flat_map_iter(|f| {
-            let t = tris[f];
-            let a = mesh.triangle_points(f);
-            let candidates = if a.iter().all(|p| p.is_finite()) {
-                bvh.boxes_overlapping(&Aabb::from_points(&a))
-            } else {
-                Vec::new()
-            };
-            candidates.into_iter().filter_map(move |g| {
-                if (g as usize) <= f {
-                    return None;
-                }
-                let u = tris[g as usize];
-                if t.iter().any(|v| u.contains(v)) {
-                    return None;
-                }
-                let b = mesh.triangle_points(g as usize);
-                let size = longest_edge_length(a).max(longest_edge_length(b));
-                (triangle_overlap_depth(a, b) > SELF_INTERSECTION_TOLERANCE * size)
-                    .then_some([f as u32, g])
-            })
-        })
-        .collect();
+    // One self-join of the tree over the faces' boxes, in parallel (each pair met once, as
+    // `(smaller, larger)`); a pair whose smaller face has a non-finite corner is skipped, as
+    // that face asked no query before. The sort makes the result independent of the thread
+    // count.
+    let mut out: Vec<[u32; 2]> = bvh.overlapping_box_pairs(|f, g| {
+        let (t, u) = (tris[f as usize], tris[g as usize]);
+        if t.iter().any(|v| u.contains(v)) {
+            return None;
+        }
+        let (a, b) = (
+            mesh.triangle_points(f as usize),
+            mesh.triangle_points(g as usize),
+        );
+        if !a.iter().all(|p| p.is_finite()) {
+            return None;
+        }
+        let size = longest_edge_length(a).max(longest_edge_length(b));
+        (triangle_overlap_depth(a, b) > SELF_INTERSECTION_TOLERANCE * size).then_some([f, g])
+    });
     out.sort_unstable();
     out
 }

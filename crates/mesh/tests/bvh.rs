@@ -112,3 +112,38 @@ proptest! {
         }
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(24))]
+    /// The self-join finds every overlapping pair of boxes once, as brute force does: random
+    /// boxes of mixed sizes (many touching and nested ones at small counts, 1 to 600 boxes so
+    /// that the parallel levels and deep leaves are both exercised), and a non-finite box that
+    /// is never reported.
+    #[test]
+    fn overlapping_pairs_match_brute_force(
+        corners in prop::collection::vec((v3(), v3()), 1..600),
+        scale in 0.05f64..2.0,
+    ) {
+        let mut boxes: Vec<Aabb> = corners
+            .iter()
+            .map(|(a, d)| Aabb::new(*a, *a + *d * scale))
+            .collect();
+        boxes.push(Aabb {
+            min: DVec3::splat(f64::NAN),
+            max: DVec3::ONE,
+        });
+        let bvh = BoxBvh::new(boxes.clone());
+        let mut got = bvh.overlapping_pairs(|i, j| Some((i, j)));
+        got.sort_unstable();
+        let finite = |b: &Aabb| b.min.is_finite() && b.max.is_finite();
+        let mut want = Vec::new();
+        for i in 0..boxes.len() {
+            for j in i + 1..boxes.len() {
+                if finite(&boxes[i]) && finite(&boxes[j]) && boxes[i].overlaps(&boxes[j]) {
+                    want.push((i as u32, j as u32));
+                }
+            }
+        }
+        prop_assert_eq!(got, want);
+    }
+}
