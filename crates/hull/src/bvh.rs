@@ -1,6 +1,7 @@
 //! A small bounding-volume hierarchy over axis-aligned boxes, used to find candidate pairs of
 //! hull tetrahedra (never all pairs). Private: `algesurf-mesh` has no box-pair query.
 
+use algesurf_mesh::self_join::{JoinTree, self_join};
 use glam::DVec3;
 use rayon::prelude::*;
 
@@ -137,16 +138,22 @@ impl Bvh {
     /// Every unordered pair `(i, j)`, `i < j`, of intersecting boxes (closed boxes), mapped
     /// through `f` (pairs where it gives `None` are dropped), in no particular order.
     ///
-    /// A simultaneous traversal of the tree with itself (a self-join): a pair of nodes whose
-    /// boxes are disjoint is skipped whole, and every pair of leaves is reached along exactly
-    /// one path, so every pair of boxes is tested once (a query per box tests it twice and
-    /// walks from the root each time). The first levels run in parallel (`rayon::join`).
+    /// A walk of the tree with itself ([`algesurf_mesh::self_join`]): every pair of boxes is
+    /// tested once (a query per box tests it twice and walks from the root each time). The
+    /// first levels run in parallel.
     pub(crate) fn pairs<T: Send>(&self, f: impl Fn(u32, u32) -> Option<T> + Sync) -> Vec<T> {
         if self.nodes.is_empty() {
             return Vec::new();
         }
-        let join = Join { bvh: self, f: &f };
-        join.within(0, 0)
+        self_join(self, 0, |a, b, out| {
+            let (i, j) = (self.order[a], self.order[b]);
+            let (bi, bj) = (&self.boxes[i as usize], &self.boxes[j as usize]);
+            if overlaps(bi, bj.0, bj.1)
+                && let Some(x) = f(i.min(j), i.max(j))
+            {
+                out.push(x);
+            }
+        })
     }
 
     /// Every unordered pair `(i, j)`, `i < j`, of intersecting boxes of `boxes` of which at
@@ -218,108 +225,28 @@ impl Bvh {
     }
 }
 
-/// The state of [`Bvh::pairs`].
-struct Join<'a, F> {
-    bvh: &'a Bvh,
-    f: &'a F,
-}
-
-/// Node depth down to which [`Join`] forks: 2^8 tasks are plenty for any thread count here,
-/// and below it a subtree's work is too small to be worth a task.
-const PARALLEL_DEPTH: usize = 8;
-
-impl<'a, T: Send, F: Fn(u32, u32) -> Option<T> + Sync> Join<'a, F> {
-    /// Pairs of two boxes in node `n`.
-    fn within(&self, n: usize, depth: usize) -> Vec<T> {
-        match self.bvh.nodes[n].kind {
-            Kind::Leaf(s, e) => {
-                let mut out = Vec::new();
-                let order = &self.bvh.order[s..e];
-                for (k, &i) in order.iter().enumerate() {
-                    for &j in &order[k + 1..] {
-                        self.test(i, j, &mut out);
-                    }
-                }
-                out
-            }
-            Kind::Inner(l, r) => {
-                let (mut a, (b, c)) = self.fork(
-                    depth,
-                    || self.within(l, depth + 1),
-                    || {
-                        self.fork(
-                            depth,
-                            || self.within(r, depth + 1),
-                            || self.across(l, r, depth + 1),
-                        )
-                    },
-                );
-                a.extend(b);
-                a.extend(c);
-                a
-            }
+/// The tree as [`self_join`] walks it: slots are positions in the Morton order.
+impl JoinTree for Bvh {
+    fn children(&self, n: usize) -> Option<(usize, usize)> {
+        match self.nodes[n].kind {
+            Kind::Leaf(..) => None,
+            Kind::Inner(l, r) => Some((l, r)),
         }
     }
 
-    /// Pairs of a box in node `a` and one in node `b` (disjoint subtrees).
-    fn across(&self, a: usize, b: usize, depth: usize) -> Vec<T> {
-        let (na, nb) = (&self.bvh.nodes[a], &self.bvh.nodes[b]);
-        if !overlaps(&(na.lo, na.hi), nb.lo, nb.hi) {
-            return Vec::new();
-        }
-        match (&na.kind, &nb.kind) {
-            (Kind::Leaf(sa, ea), Kind::Leaf(sb, eb)) => {
-                let mut out = Vec::new();
-                for &i in &self.bvh.order[*sa..*ea] {
-                    for &j in &self.bvh.order[*sb..*eb] {
-                        self.test(i, j, &mut out);
-                    }
-                }
-                out
-            }
-            // Descend the inner node, the larger box when both are inner.
-            (Kind::Inner(l, r), Kind::Leaf(..)) => self.both(*l, b, *r, b, depth),
-            (Kind::Leaf(..), Kind::Inner(l, r)) => self.both(a, *l, a, *r, depth),
-            (Kind::Inner(al, ar), Kind::Inner(bl, br)) => {
-                if (na.hi - na.lo).length_squared() >= (nb.hi - nb.lo).length_squared() {
-                    self.both(*al, b, *ar, b, depth)
-                } else {
-                    self.both(a, *bl, a, *br, depth)
-                }
-            }
-        }
+    fn nodes_overlap(&self, a: usize, b: usize) -> bool {
+        let (na, nb) = (&self.nodes[a], &self.nodes[b]);
+        overlaps(&(na.lo, na.hi), nb.lo, nb.hi)
     }
 
-    fn both(&self, a0: usize, b0: usize, a1: usize, b1: usize, depth: usize) -> Vec<T> {
-        let (mut x, y) = self.fork(
-            depth,
-            || self.across(a0, b0, depth + 1),
-            || self.across(a1, b1, depth + 1),
-        );
-        x.extend(y);
-        x
+    fn node_extent(&self, n: usize) -> f64 {
+        (self.nodes[n].hi - self.nodes[n].lo).length_squared()
     }
 
-    fn fork<A: Send, B: Send>(
-        &self,
-        depth: usize,
-        a: impl FnOnce() -> A + Send,
-        b: impl FnOnce() -> B + Send,
-    ) -> (A, B) {
-        if depth < PARALLEL_DEPTH {
-            rayon::join(a, b)
-        } else {
-            (a(), b())
-        }
-    }
-
-    fn test(&self, i: u32, j: u32, out: &mut Vec<T>) {
-        let (bi, bj) = (&self.bvh.boxes[i as usize], &self.bvh.boxes[j as usize]);
-        if overlaps(bi, bj.0, bj.1) {
-            let (lo, hi) = (i.min(j), i.max(j));
-            if let Some(x) = (self.f)(lo, hi) {
-                out.push(x);
-            }
+    fn leaf_slots(&self, n: usize) -> std::ops::Range<usize> {
+        match self.nodes[n].kind {
+            Kind::Leaf(s, e) => s..e,
+            Kind::Inner(..) => 0..0,
         }
     }
 }

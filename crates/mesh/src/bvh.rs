@@ -11,6 +11,7 @@
 use crate::TriMesh;
 use crate::geometry::Aabb;
 use crate::primitives::{closest_point_on_triangle, ray_box, ray_triangle, triangle_box_overlap};
+use crate::self_join::{JoinTree, self_join};
 use glam::DVec3;
 use obvhs::bvh2::Bvh2;
 use std::time::Duration;
@@ -48,6 +49,30 @@ pub struct BoxBvh {
     /// contains the exact f64 box (see the module comment), so it is as conservative a
     /// prefilter for a single primitive as the node boxes are for subtrees.
     leaf_boxes: Vec<Aabb>,
+}
+
+/// The tree as [`self_join`] walks it (only called on a built tree).
+impl JoinTree for BoxBvh {
+    fn children(&self, n: usize) -> Option<(usize, usize)> {
+        let node = &self.tree.as_ref()?.nodes[n];
+        (!node.is_leaf()).then(|| (node.first_index as usize, node.first_index as usize + 1))
+    }
+
+    fn nodes_overlap(&self, a: usize, b: usize) -> bool {
+        self.node_boxes[a].overlaps(&self.node_boxes[b])
+    }
+
+    fn node_extent(&self, n: usize) -> f64 {
+        self.node_boxes[n].diagonal()
+    }
+
+    fn leaf_slots(&self, n: usize) -> std::ops::Range<usize> {
+        self.tree.as_ref().map_or(0..0, |t| {
+            let node = &t.nodes[n];
+            let s = node.first_index as usize;
+            s..s + node.prim_count as usize
+        })
+    }
 }
 
 impl std::fmt::Debug for BoxBvh {
@@ -264,10 +289,9 @@ impl BoxBvh {
     /// counts), mapped through `f` (pairs where it gives `None` are dropped), in no particular
     /// order.
     ///
-    /// A simultaneous traversal of the tree with itself (a self-join): two subtrees whose
-    /// boxes are disjoint are skipped whole, and every pair of leaves is reached along one
-    /// path, so each pair of boxes is tested once, where a query per box tests it twice and
-    /// descends from the root each time. The upper levels run in parallel.
+    /// A walk of the tree with itself ([`crate::self_join`]): each pair of boxes is tested
+    /// once, where a query per box tests it twice and descends from the root each time. The
+    /// upper levels run in parallel.
     ///
     /// ```
     /// use algesurf_mesh::bvh::BoxBvh;
@@ -281,18 +305,21 @@ impl BoxBvh {
     /// assert_eq!(pairs, vec![(0, 1), (0, 2), (1, 2)]);
     /// ```
     pub fn overlapping_pairs<T: Send>(&self, f: impl Fn(u32, u32) -> Option<T> + Sync) -> Vec<T> {
-        let Some(tree) = &self.tree else {
-            return Vec::new();
-        };
-        if tree.nodes.is_empty() {
+        if self.tree.as_ref().is_none_or(|t| t.nodes.is_empty()) {
             return Vec::new();
         }
-        SelfJoin {
-            bvh: self,
-            tree,
-            f: &f,
-        }
-        .within(0, 0)
+        // Slots are positions in the leaf order: padded boxes first, then the exact ones.
+        self_join(self, 0, |a, b, out| {
+            if !self.leaf_boxes[a].overlaps(&self.leaf_boxes[b]) {
+                return;
+            }
+            let (i, j) = (self.leaf_ids[a], self.leaf_ids[b]);
+            if self.boxes[i as usize].overlaps(&self.boxes[j as usize])
+                && let Some(x) = f(i.min(j), i.max(j))
+            {
+                out.push(x);
+            }
+        })
     }
 
     /// Ids of the boxes that overlap `query` (closed boxes; touching counts), ascending.
@@ -314,130 +341,6 @@ impl BoxBvh {
     /// Ids of the boxes that contain `p`, ascending.
     pub fn containing(&self, p: DVec3) -> Vec<u32> {
         self.overlapping(&Aabb { min: p, max: p })
-    }
-}
-
-/// The self-join of [`BoxBvh::overlapping_pairs`].
-struct SelfJoin<'a, F> {
-    bvh: &'a BoxBvh,
-    tree: &'a Bvh2,
-    f: &'a F,
-}
-
-/// Levels of the self-join that fork into parallel tasks: 2^8 tasks and more below the root
-/// keep two cores busy without a task per leaf pair.
-const PARALLEL_LEVELS: usize = 8;
-
-impl<T: Send, F: Fn(u32, u32) -> Option<T> + Sync> SelfJoin<'_, F> {
-    fn children(&self, n: u32) -> Option<(u32, u32)> {
-        let node = &self.tree.nodes[n as usize];
-        (!node.is_leaf()).then_some((node.first_index, node.first_index + 1))
-    }
-
-    /// The primitive slots (indices into `leaf_ids`) of leaf `n`.
-    fn slots(&self, n: u32) -> std::ops::Range<usize> {
-        let node = &self.tree.nodes[n as usize];
-        let s = node.first_index as usize;
-        s..s + node.prim_count as usize
-    }
-
-    /// Tests the slot pair `(a, b)`: padded boxes first, then the exact f64 boxes.
-    fn test(&self, a: usize, b: usize, out: &mut Vec<T>) {
-        let bvh = self.bvh;
-        if !bvh.leaf_boxes[a].overlaps(&bvh.leaf_boxes[b]) {
-            return;
-        }
-        let (i, j) = (bvh.leaf_ids[a], bvh.leaf_ids[b]);
-        if bvh.boxes[i as usize].overlaps(&bvh.boxes[j as usize])
-            && let Some(x) = (self.f)(i.min(j), i.max(j))
-        {
-            out.push(x);
-        }
-    }
-
-    /// The pairs within subtree `n`.
-    fn within(&self, n: u32, depth: usize) -> Vec<T> {
-        match self.children(n) {
-            None => {
-                let mut out = Vec::new();
-                let slots = self.slots(n);
-                for a in slots.clone() {
-                    for b in a + 1..slots.end {
-                        self.test(a, b, &mut out);
-                    }
-                }
-                out
-            }
-            Some((l, r)) => {
-                let (mut a, (b, c)) = self.fork(
-                    depth,
-                    || self.within(l, depth + 1),
-                    || {
-                        self.fork(
-                            depth,
-                            || self.within(r, depth + 1),
-                            || self.across(l, r, depth + 1),
-                        )
-                    },
-                );
-                a.extend(b);
-                a.extend(c);
-                a
-            }
-        }
-    }
-
-    /// The pairs with one box in subtree `a` and one in subtree `b` (disjoint subtrees).
-    fn across(&self, a: u32, b: u32, depth: usize) -> Vec<T> {
-        let nb = &self.bvh.node_boxes;
-        if !nb[a as usize].overlaps(&nb[b as usize]) {
-            return Vec::new();
-        }
-        match (self.children(a), self.children(b)) {
-            (None, None) => {
-                let mut out = Vec::new();
-                for x in self.slots(a) {
-                    for y in self.slots(b) {
-                        self.test(x, y, &mut out);
-                    }
-                }
-                out
-            }
-            // Split the inner one (the one with the longer diagonal when both are inner).
-            (Some((l, r)), None) => self.both(l, r, b, depth),
-            (None, Some((l, r))) => self.both(l, r, a, depth),
-            (Some((al, ar)), Some((bl, br))) => {
-                if nb[a as usize].diagonal() >= nb[b as usize].diagonal() {
-                    self.both(al, ar, b, depth)
-                } else {
-                    self.both(bl, br, a, depth)
-                }
-            }
-        }
-    }
-
-    /// `across(l, other)` and `across(r, other)`.
-    fn both(&self, l: u32, r: u32, other: u32, depth: usize) -> Vec<T> {
-        let (mut x, y) = self.fork(
-            depth,
-            || self.across(l, other, depth + 1),
-            || self.across(r, other, depth + 1),
-        );
-        x.extend(y);
-        x
-    }
-
-    fn fork<A: Send, B: Send>(
-        &self,
-        depth: usize,
-        a: impl FnOnce() -> A + Send,
-        b: impl FnOnce() -> B + Send,
-    ) -> (A, B) {
-        if depth < PARALLEL_LEVELS {
-            rayon::join(a, b)
-        } else {
-            (a(), b())
-        }
     }
 }
 

@@ -74,5 +74,6 @@ pub use subdivision::{
 pub mod bvh;
 pub mod primitives;
 mod self_intersection;
+pub mod self_join;
 pub use bvh::{BoxBvh, ClosestPoint, RayHit, TriangleBvh};
 pub use self_intersection::{SELF_INTERSECTION_TOLERANCE, self_intersections};
