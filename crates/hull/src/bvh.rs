@@ -27,8 +27,10 @@ enum Kind {
 /// splits do. Rebuilt every refinement round over 350 k tetrahedra (the bunny), the build cost
 /// 150 ms with median splits.
 pub(crate) struct Bvh {
-    boxes: Vec<(DVec3, DVec3)>,
-    /// Box ids in Morton order; leaves are ranges of it.
+    /// The boxes in Morton order (`sorted[k]` is box `order[k]`), so that a leaf's boxes, and
+    /// the leaves a walk meets together, lie next to each other in memory.
+    sorted: Vec<(DVec3, DVec3)>,
+    /// Box ids in Morton order; leaves are ranges of it (of "slots").
     order: Vec<u32>,
     /// Morton code of `order[k]`.
     codes: Vec<u64>,
@@ -81,12 +83,12 @@ impl Bvh {
         // Ties broken by id: the tree, and every traversal order, is deterministic.
         keyed.par_sort_unstable();
         let mut b = Bvh {
+            sorted: keyed.par_iter().map(|k| boxes[k.1 as usize]).collect(),
             order: keyed.iter().map(|k| k.1).collect(),
             codes: keyed.iter().map(|k| k.0).collect(),
-            boxes,
             nodes: Vec::with_capacity(2 * keyed.len() / LEAF + 1),
         };
-        if !b.boxes.is_empty() {
+        if !b.sorted.is_empty() {
             b.build(0, b.order.len());
         }
         b
@@ -110,9 +112,9 @@ impl Bvh {
             (a.lo.min(b.lo), a.hi.max(b.hi))
         } else {
             let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
-            for &i in &self.order[start..end] {
-                lo = lo.min(self.boxes[i as usize].0);
-                hi = hi.max(self.boxes[i as usize].1);
+            for b in &self.sorted[start..end] {
+                lo = lo.min(b.0);
+                hi = hi.max(b.1);
             }
             (lo, hi)
         };
@@ -141,19 +143,40 @@ impl Bvh {
     /// A walk of the tree with itself ([`algesurf_mesh::self_join`]): every pair of boxes is
     /// tested once (a query per box tests it twice and walks from the root each time). The
     /// first levels run in parallel.
+    ///
+    /// (The hull walks by slots, [`Bvh::slot_pairs`]; this is what its tests check against
+    /// brute force.)
+    #[cfg(test)]
     pub(crate) fn pairs<T: Send>(&self, f: impl Fn(u32, u32) -> Option<T> + Sync) -> Vec<T> {
+        self.slot_pairs(|a, b| {
+            let (i, j) = (self.order[a], self.order[b]);
+            f(i.min(j), i.max(j))
+        })
+    }
+
+    /// [`Bvh::pairs`] by slots: `f(a, b)` for the Morton positions `a`, `b` of every pair of
+    /// intersecting boxes (`order()[a]`, `order()[b]` are their ids), in no particular order
+    /// of the pairs or within one. For callers that keep their own data in Morton order.
+    pub(crate) fn slot_pairs<T: Send>(
+        &self,
+        f: impl Fn(usize, usize) -> Option<T> + Sync,
+    ) -> Vec<T> {
         if self.nodes.is_empty() {
             return Vec::new();
         }
         self_join(self, 0, |a, b, out| {
-            let (i, j) = (self.order[a], self.order[b]);
-            let (bi, bj) = (&self.boxes[i as usize], &self.boxes[j as usize]);
-            if overlaps(bi, bj.0, bj.1)
-                && let Some(x) = f(i.min(j), i.max(j))
+            let (ba, bb) = (&self.sorted[a], &self.sorted[b]);
+            if overlaps(ba, bb.0, bb.1)
+                && let Some(x) = f(a, b)
             {
                 out.push(x);
             }
         })
+    }
+
+    /// Box ids in Morton order: slot `k` holds box `order()[k]`.
+    pub(crate) fn order(&self) -> &[u32] {
+        &self.order
     }
 
     /// Every unordered pair `(i, j)`, `i < j`, of intersecting boxes of `boxes` of which at
@@ -209,8 +232,7 @@ impl Bvh {
             }
             match node.kind {
                 Kind::Leaf(s, e) => {
-                    for &k in &self.order[s..e] {
-                        let bk = &self.boxes[k as usize];
+                    for (&k, bk) in self.order[s..e].iter().zip(&self.sorted[s..e]) {
                         if overlaps(b, bk.0, bk.1) {
                             hit(k);
                         }

@@ -601,36 +601,35 @@ impl SimplicialHull {
                 (lo, hi)
             })
             .collect();
-        // Face planes once per tetrahedron when every pair is checked (each takes part in ~40
-        // candidate pairs on the bunny); computed per pair when only the few fresh ones are,
-        // where most tetrahedra take part in none.
-        let planes: Option<Vec<FacePlanes>> = fresh.is_none().then(|| {
-            tets.par_iter()
-                .map(|t| FacePlanes::of(&t.vertices))
-                .collect()
-        });
-        let plane = |i: usize| {
-            planes
-                .as_ref()
-                .map_or_else(|| FacePlanes::of(&tets[i].vertices), |p| p[i])
-        };
         let tol = self.options.overlap_tolerance;
-        let test = |i: u32, j: u32| {
-            let (i_, j_) = (i as usize, j as usize);
-            let depth = depth_until(
-                &tets[i_].vertices,
-                &plane(i_),
-                &tets[j_].vertices,
-                &plane(j_),
-                tol,
-            );
-            (depth > tol).then_some((i, j, depth))
-        };
-        // All pairs: one self-join of a tree over every box, in parallel, every pair tested
-        // once; pairs with a fresh tetrahedron: a tree over the fresh ones, queried by all.
+        // Each pair is tested in the order of its ids, `depth_until(lower, higher)`, whichever
+        // way the walk meets it, so the depths do not depend on the traversal.
         let mut pairs: Vec<(u32, u32, f64)> = match fresh {
-            None => Bvh::new(boxes).pairs(test),
-            Some(fresh) => Bvh::marked_pairs(&boxes, fresh, test),
+            // All pairs: one self-join of a tree over every box, in parallel, every pair
+            // tested once. The vertices and face planes (computed once per tetrahedron: each
+            // takes part in ~40 candidate pairs on the bunny) are copied into the tree's
+            // Morton order, so that the pairs of neighbouring leaves read neighbouring memory.
+            None => {
+                let bvh = Bvh::new(boxes);
+                let order = bvh.order();
+                let verts: Vec<[DVec3; 4]> = order
+                    .par_iter()
+                    .map(|&i| tets[i as usize].vertices)
+                    .collect();
+                let planes: Vec<FacePlanes> = verts.par_iter().map(FacePlanes::of).collect();
+                bvh.slot_pairs(|a, b| {
+                    let (a, b) = if order[a] < order[b] { (a, b) } else { (b, a) };
+                    let depth = depth_until(&verts[a], &planes[a], &verts[b], &planes[b], tol);
+                    (depth > tol).then_some((order[a], order[b], depth))
+                })
+            }
+            // Pairs with a fresh tetrahedron: a tree over the fresh ones, queried by all; the
+            // face planes per pair, as most tetrahedra take part in none.
+            Some(fresh) => Bvh::marked_pairs(&boxes, fresh, |i, j| {
+                let (a, b) = (&tets[i as usize].vertices, &tets[j as usize].vertices);
+                let depth = depth_until(a, &FacePlanes::of(a), b, &FacePlanes::of(b), tol);
+                (depth > tol).then_some((i, j, depth))
+            }),
         };
         // Sorting makes the list (and the refinement driven by it) independent of the thread
         // count and of which tetrahedra were fresh.
