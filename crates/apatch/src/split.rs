@@ -106,7 +106,7 @@ impl SplitFace {
         }
         let (sys, target, tets) = constraints(v, apexes, mid_gradients, q, f)?;
         let (x, residual, _) = solve(&sys, &target);
-        let mut sides = Vec::new();
+        let mut sides = Vec::with_capacity(apexes.len());
         for side in 0..apexes.len() {
             let polys = std::array::from_fn(|a| {
                 let ti = side * 3 + a;
@@ -134,7 +134,7 @@ fn constraints(
 ) -> Result<(System, Vec<f64>, Vec<Tetrahedron>), ApatchError> {
     let p = v.map(|x| x.position);
     let c = (p[0] + p[1] + p[2]) / 3.0;
-    let mut tets = Vec::new();
+    let mut tets = Vec::with_capacity(3 * apexes.len());
     for &apex in apexes {
         for a in 0..3 {
             let (b, cc) = ((a + 1) % 3, (a + 2) % 3);

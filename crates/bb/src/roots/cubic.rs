@@ -540,7 +540,8 @@ pub fn cubic_roots(coeffs: &[f64]) -> Result<Vec<Root>, BbError> {
 /// ([`cubic_roots`]) costs its verification for nothing. No allocation.
 ///
 /// Cardano in `s = t/(1 − t)` (written in whichever of t or 1 − t makes `|a| ≥ |d|`, as
-/// [`cubic_roots_closed_form`] does), every real branch `x` with `s = x − b/a ≥ 0` mapped to
+/// [`cubic_roots_closed_form`] does; the cube roots and `cos(θ/3)` by the fast path of
+/// [`shooting_root`]), every real branch `x` with `s = x − b/a ≥ 0` mapped to
 /// `t = s/(1 + s)`, then up to four Newton steps on `coeffs`, each kept only while it stays in
 /// `[0, 1]` and lowers `|p(t)|`. Where `Δ ≥ 0` the real part `−x₁/2` of the complex pair is a
 /// candidate too: it is the double root when `Δ = 0`, and so covers a near-double root whose
@@ -584,10 +585,12 @@ pub fn cubic_root_estimates(coeffs: [f64; 4]) -> ([f64; 3], usize) {
         }
         return out;
     };
+    // The fast branches (cube roots and cos(θ/3) to ~6e-10 relative, no libm trigonometry):
+    // the Newton steps below take them to full precision.
     let branches = if cub.delta < 0.0 {
-        cub.real_branches_delta_negative()
+        cub.branches_fast_delta_negative()
     } else {
-        let x1 = cub.x1();
+        let x1 = cub.x1_fast();
         [x1, -0.5 * x1, f64::NAN]
     };
     for x in branches {
