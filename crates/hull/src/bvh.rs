@@ -179,39 +179,42 @@ impl Bvh {
         &self.order
     }
 
-    /// Every unordered pair `(i, j)`, `i < j`, of intersecting boxes of `boxes` of which at
-    /// least one is `marked`, mapped through `f` as in [`Bvh::pairs`], in no particular order.
+    /// Every unordered pair of intersecting boxes, with ids `i < j`, of which at least one is
+    /// among `marked`, mapped through `f` (lower id first; pairs where it gives `None` are
+    /// dropped), in no particular order. `items` are all the boxes, marked ones included, each
+    /// as `(id, box, marked, payload)`; `marked` lists the marked ones as `(id, box, payload)`.
+    /// The payload carries what `f` needs of an item, so the caller need not keep every item in
+    /// memory at once.
     ///
     /// For the refinement rounds, where a few hundred of 270 k tetrahedra are new: a tree over
     /// the marked boxes only, queried with every box in parallel. Building a tree over all
     /// boxes each round cost more than the whole query (Morton codes and a parallel sort of
     /// 270 k keys, against one descent of a tree of a few hundred boxes per box). A pair of
     /// two marked boxes is met from both sides and kept from its smaller id's side.
-    pub(crate) fn marked_pairs<T: Send>(
-        boxes: &[(DVec3, DVec3)],
-        marked: &[bool],
-        f: impl Fn(u32, u32) -> Option<T> + Sync,
+    pub(crate) fn marked_pairs<P: Sync + Send, T: Send>(
+        marked: &[(u32, (DVec3, DVec3), P)],
+        items: impl ParallelIterator<Item = (u32, (DVec3, DVec3), bool, P)>,
+        f: impl Fn((u32, &P), (u32, &P)) -> Option<T> + Sync,
     ) -> Vec<T> {
-        let ids: Vec<u32> = (0..boxes.len() as u32)
-            .filter(|&i| marked[i as usize])
-            .collect();
-        let tree = Bvh::new(ids.iter().map(|&i| boxes[i as usize]).collect());
+        let tree = Bvh::new(marked.iter().map(|m| m.1).collect());
         if tree.nodes.is_empty() {
             return Vec::new();
         }
-        boxes
-            .par_iter()
-            .enumerate()
-            .map_init(Vec::new, |stack, (i, b)| {
-                let i = i as u32;
+        items
+            .map_init(Vec::new, |stack, (i, b, is_marked, p)| {
                 let mut out = Vec::new();
-                tree.query(b, stack, |k| {
-                    let j = ids[k as usize];
-                    if j != i
-                        && (!marked[i as usize] || i < j)
-                        && let Some(x) = f(i.min(j), i.max(j))
-                    {
-                        out.push(x);
+                tree.query(&b, stack, |k| {
+                    let (j, _, q) = &marked[k as usize];
+                    let j = *j;
+                    if j != i && (!is_marked || i < j) {
+                        let (lo, hi) = if i < j {
+                            ((i, &p), (j, q))
+                        } else {
+                            ((j, q), (i, &p))
+                        };
+                        if let Some(x) = f(lo, hi) {
+                            out.push(x);
+                        }
                     }
                 });
                 out
@@ -301,7 +304,16 @@ mod tests {
         for marks in [None, Some(&marked[..])] {
             let mut found = match marks {
                 None => bvh.pairs(|i, j| Some((i, j))),
-                Some(m) => Bvh::marked_pairs(&boxes, m, |i, j| Some((i, j))),
+                Some(m) => {
+                    let listed: Vec<(u32, (DVec3, DVec3), ())> = (0..boxes.len())
+                        .filter(|&i| m[i])
+                        .map(|i| (i as u32, boxes[i], ()))
+                        .collect();
+                    let items = (0..boxes.len())
+                        .into_par_iter()
+                        .map(|i| (i as u32, boxes[i], m[i], ()));
+                    Bvh::marked_pairs(&listed, items, |(i, _), (j, _)| Some((i, j)))
+                }
             };
             found.sort_unstable();
             let mut expected = Vec::new();

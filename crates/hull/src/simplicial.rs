@@ -1,17 +1,14 @@
 //! The simplicial hull Σ with intersection checks and local Butterfly refinement (§3.1).
 
-use crate::bvh::Bvh;
 use crate::classify::Side;
 use crate::crossing::CrossingZone;
 use crate::hull::{
     Built, HullEdge, HullFace, PreviousRound, build as build_faces_edges, check_input, longest_edge,
 };
-use crate::overlap::{FacePlanes, depth_until};
 use crate::refine::RefineState;
 use crate::{HullError, HullOptions};
 use algesurf_mesh::TriMesh;
 use glam::DVec3;
-use rayon::prelude::*;
 use std::collections::HashMap;
 
 /// The connected component (an index) of every face of `mesh`.
@@ -25,6 +22,7 @@ fn components_of(mesh: &TriMesh) -> Vec<u32> {
     c
 }
 
+mod intersect;
 /// The mesh element a hull tetrahedron belongs to (ids of the possibly refined mesh).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Element {
@@ -291,17 +289,13 @@ impl SimplicialHull {
                     .iter()
                     .map(|&g| input_component[g as usize])
                     .collect();
-                let tets = hull.tetrahedra();
                 // Survivors were checked against each other in the previous round.
-                let fresh: Option<Vec<bool>> = previous.is_some().then(|| {
-                    tets.par_iter()
-                        .map(|t| match t.element {
-                            Element::Face(f) => fresh_faces[f as usize],
-                            Element::Edge(e) => fresh_edges[e as usize],
-                        })
-                        .collect()
-                });
-                hull.intersections_involving(&tets, fresh.as_deref())
+                let found = if previous.is_some() {
+                    hull.fresh_intersections(&fresh_faces, &fresh_edges)
+                } else {
+                    hull.intersections()
+                };
+                found
                     .into_iter()
                     .filter(|h| !hull.unremovable(&component, &zone, &state.face_map, h))
                     .collect()
@@ -526,122 +520,6 @@ impl SimplicialHull {
             .copied()
             .max_by(|&x, &y| self.edge_length(x).total_cmp(&self.edge_length(y)))
             .unwrap_or(0)
-    }
-
-    /// Every tetrahedron of Σ: face tetrahedra in face order (positive before negative), then
-    /// edge tetrahedra in edge order.
-    pub fn tetrahedra(&self) -> Vec<HullTetrahedron> {
-        // An element's tetrahedra, positive before negative.
-        fn of(
-            element: Element,
-            sides: [Option<(Side, [DVec3; 4])>; 2],
-        ) -> impl Iterator<Item = HullTetrahedron> {
-            sides
-                .into_iter()
-                .flatten()
-                .map(move |(side, vertices)| HullTetrahedron {
-                    element,
-                    side,
-                    vertices,
-                })
-        }
-        let face_tets = self
-            .faces
-            .par_iter()
-            .enumerate()
-            .flat_map_iter(|(f, face)| {
-                let sides = [&face.positive, &face.negative]
-                    .map(|t| t.as_ref().map(|t| (t.side, *t.tetrahedron.vertices())));
-                of(Element::Face(f as u32), sides)
-            });
-        let edge_tets = self
-            .edges
-            .par_iter()
-            .enumerate()
-            .flat_map_iter(|(e, edge)| {
-                let sides = [&edge.positive, &edge.negative]
-                    .map(|t| t.as_ref().map(|t| (t.side, *t.tetrahedron.vertices())));
-                of(Element::Edge(e as u32), sides)
-            });
-        // Collected in parallel, in order (rayon keeps the sequence's order).
-        face_tets.chain(edge_tets).collect()
-    }
-
-    /// All pairs of tetrahedra of Σ whose interiors overlap by more than
-    /// [`HullOptions::overlap_tolerance`] — adjacent or not. Candidate pairs come from a
-    /// bounding-volume hierarchy over the tetrahedra's boxes; each candidate is decided by
-    /// [`crate::overlap_depth`]. Empty for a valid hull.
-    pub fn intersections(&self) -> Vec<Intersection> {
-        self.intersections_involving(&self.tetrahedra(), None)
-    }
-
-    /// The overlapping pairs among `tets` (this hull's [`SimplicialHull::tetrahedra`]) that
-    /// involve at least one tetrahedron marked in `fresh` (all pairs for `None`), ordered by
-    /// the pair's indices in `tets`.
-    ///
-    /// Refinement rounds check only the new tetrahedra: those of an element that survived the
-    /// round (`hull::PreviousRound`: a face with the same id and corners, an edge with two such
-    /// faces) are that round's, reused, not rebuilt, and every pair of two such was checked
-    /// then and did not overlap — had it overlapped, its faces would have been bisected,
-    /// changing their corners (overlaps left alone as the input's are reported by
-    /// [`SimplicialHull::distant_intersections`], which checks every pair).
-    fn intersections_involving(
-        &self,
-        tets: &[HullTetrahedron],
-        fresh: Option<&[bool]>,
-    ) -> Vec<Intersection> {
-        let boxes: Vec<(DVec3, DVec3)> = tets
-            .par_iter()
-            .map(|t| {
-                let (mut lo, mut hi) = (t.vertices[0], t.vertices[0]);
-                for v in &t.vertices[1..] {
-                    lo = lo.min(*v);
-                    hi = hi.max(*v);
-                }
-                (lo, hi)
-            })
-            .collect();
-        let tol = self.options.overlap_tolerance;
-        // Each pair is tested in the order of its ids, `depth_until(lower, higher)`, whichever
-        // way the walk meets it, so the depths do not depend on the traversal.
-        let mut pairs: Vec<(u32, u32, f64)> = match fresh {
-            // All pairs: one self-join of a tree over every box, in parallel, every pair
-            // tested once. The vertices and face planes (computed once per tetrahedron: each
-            // takes part in ~40 candidate pairs on the bunny) are copied into the tree's
-            // Morton order, so that the pairs of neighbouring leaves read neighbouring memory.
-            None => {
-                let bvh = Bvh::new(boxes);
-                let order = bvh.order();
-                let verts: Vec<[DVec3; 4]> = order
-                    .par_iter()
-                    .map(|&i| tets[i as usize].vertices)
-                    .collect();
-                let planes: Vec<FacePlanes> = verts.par_iter().map(FacePlanes::of).collect();
-                bvh.slot_pairs(|a, b| {
-                    let (a, b) = if order[a] < order[b] { (a, b) } else { (b, a) };
-                    let depth = depth_until(&verts[a], &planes[a], &verts[b], &planes[b], tol);
-                    (depth > tol).then_some((order[a], order[b], depth))
-                })
-            }
-            // Pairs with a fresh tetrahedron: a tree over the fresh ones, queried by all; the
-            // face planes per pair, as most tetrahedra take part in none.
-            Some(fresh) => Bvh::marked_pairs(&boxes, fresh, |i, j| {
-                let (a, b) = (&tets[i as usize].vertices, &tets[j as usize].vertices);
-                let depth = depth_until(a, &FacePlanes::of(a), b, &FacePlanes::of(b), tol);
-                (depth > tol).then_some((i, j, depth))
-            }),
-        };
-        // Sorting makes the list (and the refinement driven by it) independent of the thread
-        // count and of which tetrahedra were fresh.
-        pairs.sort_unstable_by_key(|&(a, b, _)| (a, b));
-        pairs
-            .into_iter()
-            .map(|(a, b, depth)| Intersection {
-                first: tets[a as usize],
-                second: tets[b as usize],
-                depth,
-            })
-            .collect()
     }
 
     /// The (possibly refined) mesh the hull is built on. Vertices `0..input_vertex_count()` are
