@@ -91,11 +91,47 @@ pub(crate) fn gradient_from_partials(tet: &Tetrahedron, dp: [f64; 4], dr: [f64; 
 /// apex. Raising a face side's apex value by δ adds exactly δ·τ_apex² to its pieces: for a convex
 /// face through (4.14); for a split face because τ_apex² meets every hard constraint (zero value
 /// and gradient on the face plane, C1 everywhere) with 1 at the apex, so the constrained
-/// least-squares solution moves by exactly that.
+/// least-squares solution moves by exactly that. (Construction adds it in place,
+/// [`add_apex_square`]; the tests compare with this polynomial.)
+#[cfg(test)]
 pub(crate) fn apex_square() -> BbPoly<f64, 4> {
     BbPoly::from_fn(3, |l| match l[3] {
         2 => 1.0 / 3.0,
         3 => 1.0,
         _ => 0.0,
     })
+}
+
+/// `poly + δ·τ_apex²` in place (`apex_square`): `(1/3)·δ` added on the layer λ_3 = 2 and δ at
+/// the apex, the same products and sums as `poly.add_poly(&apex_square().scale(δ))` (the other
+/// coefficients would add `0·δ`), without the two allocations.
+pub(crate) fn add_apex_square(poly: &mut BbPoly<f64, 4>, delta: f64) {
+    debug_assert_eq!(poly.degree(), 3);
+    for (l, c) in crate::cubic::INDICES3.iter().zip(poly.coeffs_mut()) {
+        match l[3] {
+            2 => *c += (1.0 / 3.0) * delta,
+            3 => *c += delta,
+            _ => {}
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Adding in place gives the bits of adding the scaled polynomial.
+    #[test]
+    fn apex_square_is_added_in_place_bit_for_bit() {
+        let poly =
+            BbPoly::<f64, 4>::new(3, (0..20).map(|i| (i as f64 * 0.37).sin()).collect()).unwrap();
+        for delta in [0.7, -1.3e-3, 123.456] {
+            let mut fast = poly.clone();
+            add_apex_square(&mut fast, delta);
+            let slow = poly.add_poly(&apex_square().scale(delta));
+            let bits =
+                |p: &BbPoly<f64, 4>| p.coeffs().iter().map(|c| c.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&fast), bits(&slow), "δ = {delta}");
+        }
+    }
 }

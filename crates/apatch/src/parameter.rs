@@ -106,9 +106,8 @@ impl ApatchSurface {
         match &mut self.faces[face] {
             FaceFunction::Convex { cubic, .. } => cubic.set_f0003(value),
             FaceFunction::Split(split) => {
-                let sq = crate::geometry::apex_square().scale(delta);
                 for poly in &mut split.sides[slot(side)].polys {
-                    *poly = poly.add_poly(&sq);
+                    crate::geometry::add_apex_square(poly, delta);
                 }
             }
             FaceFunction::Planar => unreachable!("planar faces have no free parameter"),

@@ -1,6 +1,6 @@
 //! The whole C1 function F over the simplicial hull of a mesh, and its free parameters.
 
-use crate::geometry::apex_square;
+use crate::geometry::add_apex_square;
 use crate::sheet::{CERTIFIED_GAP, CERTIFIED_MAX_CELLS, certified_face_bound, lifted_b_min};
 use crate::{ApatchError, EdgeCubic, EdgeNeighbour, FaceCubic, Quadric, SplitFace, VertexData};
 use algesurf_bb::sheet::square::certified_square_lift_bound;
@@ -461,7 +461,6 @@ fn build_face(
                 )));
             }
             let mut bounds = [f64::NEG_INFINITY; 2];
-            let sq = apex_square();
             for (s, sign) in [(0usize, 1.0), (1usize, -1.0)] {
                 let side = &split.sides[s];
                 let mut worst = f64::NEG_INFINITY;
@@ -495,7 +494,7 @@ fn build_face(
                     let delta = worst + margin - sign * values[s];
                     values[s] += sign * delta;
                     for poly in &mut split.sides[s].polys {
-                        *poly = poly.add_poly(&sq.scale(sign * delta));
+                        add_apex_square(poly, sign * delta);
                     }
                 }
             }
@@ -797,7 +796,6 @@ fn build_function(
     // increment of the two faces' apex values; raise each face side by the largest
     // increment its edges need (raising only helps every other ray, Lemma 2.3).
     let raise = edge_increments(hull, &faces, &edges, options)?;
-    let sq = apex_square();
     for (&(f, side), &delta) in &raise {
         let sign = if side == Side::Positive { 1.0 } else { -1.0 };
         match &mut faces[f] {
@@ -805,7 +803,7 @@ fn build_function(
             FaceFunction::Split(split) => {
                 let s = if side == Side::Positive { 0 } else { 1 };
                 for poly in &mut split.sides[s].polys {
-                    *poly = poly.add_poly(&sq.scale(sign * delta));
+                    add_apex_square(poly, sign * delta);
                 }
             }
             FaceFunction::Planar => {}
