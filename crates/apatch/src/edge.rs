@@ -14,6 +14,7 @@
 use crate::cubic;
 use crate::geometry::{exact_barycentric, gradient_from_partials, value_gradient_with};
 use crate::rational::edge_term;
+use crate::surface::no_tetrahedron_on;
 use crate::{ApatchError, FaceCubic, FaceFunction};
 use algesurf_bb::sheet::square::Tensor3;
 use algesurf_bb::{BbPoly, Tetrahedron};
@@ -61,6 +62,52 @@ impl FaceCubic {
             _ => Err(ApatchError::Inconsistent(
                 "the face tetrahedron does not contain the edge".into(),
             )),
+        }
+    }
+}
+
+impl FaceFunction {
+    /// The tetrahedron and the coefficients of [`FaceFunction::edge_neighbour`], borrowed and
+    /// on the stack (the edge cubics are built from these for every edge side: no copy of the
+    /// tetrahedron, no allocation).
+    pub(crate) fn edge_neighbour_parts(
+        &self,
+        side: Side,
+        pi: DVec3,
+        pj: DVec3,
+    ) -> Result<(&algesurf_bb::Tetrahedron, crate::cubic::Coeffs), ApatchError> {
+        match (self, side) {
+            (FaceFunction::Convex { side: s, cubic }, _) if *s == side => {
+                let a = cubic.opposite_corner(pi, pj)?;
+                Ok((cubic.tetrahedron(), cubic.effective_coeffs(a)))
+            }
+            (FaceFunction::Split(split), Side::Positive | Side::Negative) => {
+                let half = &split.sides[(side == Side::Negative) as usize];
+                let a = half.sub_tetrahedron_on(pi, pj)?;
+                Ok((&half.tets[a], crate::cubic::coeffs_of(&half.polys[a])))
+            }
+            _ => Err(no_tetrahedron_on(side)),
+        }
+    }
+
+    /// The tetrahedron of [`FaceFunction::edge_neighbour`] alone (Step 6's lift needs only the
+    /// neighbours' apexes and corners).
+    pub(crate) fn edge_neighbour_tetrahedron(
+        &self,
+        side: Side,
+        pi: DVec3,
+        pj: DVec3,
+    ) -> Result<&algesurf_bb::Tetrahedron, ApatchError> {
+        match (self, side) {
+            (FaceFunction::Convex { side: s, cubic }, _) if *s == side => {
+                cubic.opposite_corner(pi, pj)?;
+                Ok(cubic.tetrahedron())
+            }
+            (FaceFunction::Split(split), Side::Positive | Side::Negative) => {
+                let half = &split.sides[(side == Side::Negative) as usize];
+                Ok(&half.tets[half.sub_tetrahedron_on(pi, pj)?])
+            }
+            _ => Err(no_tetrahedron_on(side)),
         }
     }
 }
