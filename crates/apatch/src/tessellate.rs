@@ -92,6 +92,42 @@ pub(crate) struct RayPoint {
     pub(crate) multiple: bool,
 }
 
+/// The rays of `count` patches of `per` rays each, in blocks of consecutive patches (see
+/// [`ApatchSurface::tessellate`], pass 1).
+struct RayBlocks {
+    blocks: Vec<Vec<RayPoint>>,
+    /// Patches per block.
+    size: usize,
+    /// Rays per patch.
+    per: usize,
+}
+
+impl RayBlocks {
+    /// Evaluates the blocks in parallel; `fill(patch, out)` appends the patch's `per` rays.
+    fn new(count: usize, per: usize, fill: impl Fn(usize, &mut Vec<RayPoint>) + Sync) -> Self {
+        let size = (count / 64).clamp(16, 1024);
+        let blocks = (0..count.div_ceil(size))
+            .into_par_iter()
+            .map(|b| {
+                let patches = b * size..((b + 1) * size).min(count);
+                let mut out = Vec::with_capacity(patches.len() * per);
+                for p in patches {
+                    fill(p, &mut out);
+                }
+                debug_assert_eq!(out.len() % per.max(1), 0);
+                out
+            })
+            .collect();
+        RayBlocks { blocks, size, per }
+    }
+
+    /// The rays of patch `p`.
+    fn patch(&self, p: usize) -> &[RayPoint] {
+        let start = (p % self.size) * self.per;
+        &self.blocks[p / self.size][start..start + self.per]
+    }
+}
+
 impl ApatchSurface {
     /// Triangulates the surface: face patches at resolution `n` (n + 1 points per edge), edge
     /// patches with `n` steps along the edge and `m` across.
@@ -120,44 +156,21 @@ impl ApatchSurface {
             ));
         }
 
-        // 1. Rays, in two flat buffers: face `f`'s at `f · per_face`, edge `e`'s at
-        // `e · inner` (default points where an edge has no patch). Collected from indexed
-        // parallel iterators, so each thread writes its part of the buffer in place; a face's
-        // or edge's kernels are built once per run of its rays (`map_init` keeps the last).
-        // One small buffer per patch instead made 174 k allocations on the bunny, and the
-        // kernel zeroing the fresh pages behind them was half of the stage in some runs.
-        let mut face_rays: Vec<RayPoint> = Vec::new();
-        (0..nf * per_face)
-            .into_par_iter()
-            .map_init(
-                || None,
-                |cache: &mut Option<(usize, FaceRays)>, r| {
-                    let (f, k) = (r / per_face, r % per_face);
-                    if cache.as_ref().is_none_or(|c| c.0 != f) {
-                        *cache = Some((f, FaceRays::new(self, f)));
-                    }
-                    let rays = &cache.as_ref().expect("just set").1;
-                    face_ray(rays, &grid[k], n)
-                },
-            )
-            .collect_into_vec(&mut face_rays);
-        let mut edge_rays: Vec<RayPoint> = Vec::new();
-        (0..ne * inner)
-            .into_par_iter()
-            .map_init(
-                || None,
-                |cache: &mut Option<(usize, Option<EdgeRays>)>, r| {
-                    let (e, k) = (r / inner, r % inner);
-                    if cache.as_ref().is_none_or(|c| c.0 != e) {
-                        *cache = Some((e, EdgeRays::new(self, e)));
-                    }
-                    match &cache.as_ref().expect("just set").1 {
-                        Some(rays) => edge_ray(rays, k, n, m),
-                        None => RayPoint::default(),
-                    }
-                },
-            )
-            .collect_into_vec(&mut edge_rays);
+        // 1. Rays, in blocks of consecutive patches: each block's buffer is allocated and
+        // written by the thread that evaluates it, and a patch's kernels are built once.
+        // One buffer per patch (174 k small ones on the bunny) had the kernel zero fresh pages
+        // for half of the stage in some runs of the command; one flat buffer collected in
+        // parallel made divan's repeated tessellations 10–25 % slower (a large allocation per
+        // call). Blocks of `patches / 64` (at least 16, at most 1024) patches keep both cheap
+        // and give every thread dozens of tasks.
+        let face_rays = RayBlocks::new(nf, per_face, |f, out| {
+            let rays = FaceRays::new(self, f);
+            out.extend(grid.iter().map(|g| face_ray(&rays, g, n)));
+        });
+        let edge_rays = RayBlocks::new(ne, inner, |e, out| match EdgeRays::new(self, e) {
+            Some(rays) => out.extend((0..inner).map(|k| edge_ray(&rays, k, n, m))),
+            None => out.extend(std::iter::repeat_n(RayPoint::default(), inner)),
+        });
 
         // 2. Numbering.
         let edges_of = self.face_edges();
@@ -171,9 +184,9 @@ impl ApatchSurface {
             let (patch, k) = num.source[v - nv];
             let (p, k) = (patch as usize, k as usize);
             let ray = if p < nf {
-                &face_rays[p * per_face + k]
+                &face_rays.patch(p)[k]
             } else {
-                &edge_rays[(p - nf) * inner + k]
+                &edge_rays.patch(p - nf)[k]
             };
             (ray, patch)
         };
@@ -281,8 +294,8 @@ impl ApatchSurface {
         m: usize,
         grid: &[[usize; 3]],
         edges_of: &[[usize; 3]],
-        face_rays: &[RayPoint],
-        edge_rays: &[RayPoint],
+        face_rays: &RayBlocks,
+        edge_rays: &RayBlocks,
     ) -> Numbering {
         let mesh = self.hull().mesh();
         let hull_edges = self.hull().edges();
@@ -310,7 +323,7 @@ impl ApatchSurface {
             // the hull edge counts from the hull edge's first vertex.
             let reversed: [bool; 3] =
                 std::array::from_fn(|z| tri[(z + 1) % 3] == hull_edges[ef[z]].vertices[0]);
-            let rays = &face_rays[f * per_face..(f + 1) * per_face];
+            let rays = face_rays.patch(f);
             for (k, (g, class)) in grid.iter().zip(&classes).enumerate() {
                 let r = f * per_face + k;
                 let id = match *class {
@@ -338,10 +351,11 @@ impl ApatchSurface {
             }
         }
         if inner > 0 {
-            for (e, rays) in edge_rays.chunks(inner).enumerate() {
+            for e in 0..ne {
                 if !self.has_edge_patch(e) {
                     continue;
                 }
+                let rays = edge_rays.patch(e);
                 // Rows i = 1 … n − 1 of m − 1 rays.
                 for (row, rays) in rays.chunks(m - 1).enumerate() {
                     let s = n - (row + 1);
