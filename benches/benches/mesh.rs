@@ -1,5 +1,6 @@
 //! Mesh pipeline benchmarks (issue targets: bunny load → validate → repair → normals under
-//! 150 ms on the 2-core machine; BVH build and 1 M closest-point queries).
+//! 150 ms on the 2-core machine; BVH build, self-intersections and their self-join, and 1 M
+//! closest-point queries).
 //! Run: `cargo bench -p algesurf-benches --bench mesh`. Reads the bunny from
 //! `ALGESURF_CORPUS` (default `../shared/data`); without it, an icosphere of similar size
 //! stands in and the output says so.
@@ -61,6 +62,22 @@ fn bunny_mesh() -> TriMesh {
 fn bvh_build(bencher: Bencher) {
     let mesh = bunny_mesh();
     bencher.bench(|| black_box(TriangleBvh::new(&mesh)));
+}
+
+/// The input's self-intersections (`algesurf smooth`'s crossing zone): the tree build and
+/// one self-join over the faces' boxes, with the exact triangle test on every candidate pair.
+#[divan::bench(sample_count = 20)]
+fn self_intersections(bencher: Bencher) {
+    let mesh = bunny_mesh();
+    bencher.bench(|| black_box(algesurf::mesh::self_intersections(&mesh)));
+}
+
+/// The self-join alone over the faces' boxes of a built tree (every overlapping pair once).
+#[divan::bench(sample_count = 20)]
+fn overlapping_box_pairs(bencher: Bencher) {
+    let mesh = bunny_mesh();
+    let bvh = TriangleBvh::new(&mesh);
+    bencher.bench(|| black_box(bvh.overlapping_box_pairs(|i, j| Some((i, j))).len()));
 }
 
 /// 1 M closest-point queries at points spread through the bounding box.
