@@ -137,26 +137,14 @@ impl Bvh {
         start + self.codes[start..end].partition_point(|&c| c >> bit == prefix)
     }
 
-    /// Every unordered pair `(i, j)`, `i < j`, of intersecting boxes (closed boxes), mapped
-    /// through `f` (pairs where it gives `None` are dropped), in no particular order.
+    /// `f(a, b)` for every unordered pair of intersecting boxes (closed boxes), given by their
+    /// Morton positions ("slots": `order()[a]`, `order()[b]` are their ids), in no particular
+    /// order of the pairs or within one; pairs where `f` gives `None` are dropped. For callers
+    /// that keep their own data in Morton order.
     ///
     /// A walk of the tree with itself ([`algesurf_mesh::self_join`]): every pair of boxes is
     /// tested once (a query per box tests it twice and walks from the root each time). The
     /// first levels run in parallel.
-    ///
-    /// (The hull walks by slots, [`Bvh::slot_pairs`]; this is what its tests check against
-    /// brute force.)
-    #[cfg(test)]
-    pub(crate) fn pairs<T: Send>(&self, f: impl Fn(u32, u32) -> Option<T> + Sync) -> Vec<T> {
-        self.slot_pairs(|a, b| {
-            let (i, j) = (self.order[a], self.order[b]);
-            f(i.min(j), i.max(j))
-        })
-    }
-
-    /// [`Bvh::pairs`] by slots: `f(a, b)` for the Morton positions `a`, `b` of every pair of
-    /// intersecting boxes (`order()[a]`, `order()[b]` are their ids), in no particular order
-    /// of the pairs or within one. For callers that keep their own data in Morton order.
     pub(crate) fn slot_pairs<T: Send>(
         &self,
         f: impl Fn(usize, usize) -> Option<T> + Sync,
@@ -303,7 +291,10 @@ mod tests {
         let bvh = Bvh::new(boxes.clone());
         for marks in [None, Some(&marked[..])] {
             let mut found = match marks {
-                None => bvh.pairs(|i, j| Some((i, j))),
+                None => bvh.slot_pairs(|a, b| {
+                    let (i, j) = (bvh.order()[a], bvh.order()[b]);
+                    Some((i.min(j), i.max(j)))
+                }),
                 Some(m) => {
                     let listed: Vec<(u32, (DVec3, DVec3), ())> = (0..boxes.len())
                         .filter(|&i| m[i])
