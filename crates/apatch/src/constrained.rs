@@ -147,8 +147,10 @@ struct Cascade<'a> {
     /// Rows left with one free class, to look at.
     queue: Vec<usize>,
     class_fixed: &'a mut [Option<f64>],
-    /// What was forced, in order, and every pivot test with its outcome, in order (row
-    /// indices local to the cascade): what a [`Plan`] replays and checks.
+    /// Row `i`'s index in the system, for what is recorded.
+    ids: &'a [usize],
+    /// What was forced, in order, and every pivot test with its outcome, in order (rows as
+    /// indices into the system): what a `plan::Plan` replays and checks.
     steps: Vec<Step>,
     tests: Vec<PivotTest>,
 }
@@ -190,13 +192,16 @@ impl Cascade<'_> {
             let (c, w) = self.row(i)[0];
             let pass = w.abs() >= FORCE_PIVOT * self.wmax[i];
             self.tests.push(PivotTest::Single {
-                row: i,
+                row: self.ids[i],
                 class: c,
                 pass,
             });
             if pass {
                 self.done[i] = true;
-                self.steps.push(Step::Single { row: i, class: c });
+                self.steps.push(Step::Single {
+                    row: self.ids[i],
+                    class: c,
+                });
                 self.fix(c, self.rhs[i] / w);
             }
         }
@@ -215,7 +220,7 @@ impl Cascade<'_> {
             let ((a, wa), (b, wb)) = (f[0], f[1]);
             let pass = wa.abs().max(wb.abs()) >= FORCE_PIVOT * self.wmax[i];
             self.tests.push(PivotTest::PairRow {
-                row: i,
+                row: self.ids[i],
                 classes: [a, b],
                 pass,
             });
@@ -240,7 +245,7 @@ impl Cascade<'_> {
                     let det = a11 * a22 - a12 * a21;
                     let pass = pair_pivot(a11, a12, a21, a22);
                     self.tests.push(PivotTest::Pair {
-                        rows: [i, j],
+                        rows: [self.ids[i], self.ids[j]],
                         classes: [ca, cb],
                         pass,
                     });
@@ -249,7 +254,7 @@ impl Cascade<'_> {
                         self.done[i] = true;
                         self.done[j] = true;
                         self.steps.push(Step::Pair {
-                            rows: [i, j],
+                            rows: [self.ids[i], self.ids[j]],
                             classes: [ca, cb],
                         });
                         self.fix(ca, (ri * a22 - a12 * rj) / det);
@@ -281,15 +286,18 @@ impl Cascade<'_> {
 /// does not cancel by more), with each row's free coefficients not below that fraction of its
 /// largest weight; rows that fail go to the dense solve.
 ///
-/// Every pivot test is recorded with its outcome ([`Cascaded`]; row indices into `rows`): each
-/// test reads only the summed weights of a row's classes and its largest weight, never a
-/// forced value, so a [`Plan`] can check them all on another system of the same pattern.
+/// `ids` are the rows of `sys` to work on (the coupled ones). Every pivot test is recorded with
+/// its outcome ([`Cascaded`]): each test reads only the summed weights of a row's classes and
+/// its largest weight, never a forced value, so a `plan::Plan` can check them all on another
+/// system of the same pattern.
 fn force_determined_unknowns(
-    rows: &[(&[(usize, f64)], f64)],
+    sys: &System,
+    ids: &[usize],
     class_of: &[usize],
     fixed: &[Option<f64>],
     class_fixed: &mut [Option<f64>],
 ) -> Cascaded {
+    let rows: Vec<(&[(usize, f64)], f64)> = ids.iter().map(|&i| sys.row(i)).collect();
     let nr = rows.len();
     let n = class_of.len();
     let mut cascade = Cascade {
@@ -303,6 +311,7 @@ fn force_determined_unknowns(
         class_start: vec![0; n + 1],
         queue: Vec::new(),
         class_fixed,
+        ids,
         steps: Vec::new(),
         tests: Vec::new(),
     };
@@ -356,16 +365,21 @@ fn force_determined_unknowns(
         }
     }
     Cascaded {
-        done: cascade.done,
+        dense: ids
+            .iter()
+            .zip(&cascade.done)
+            .filter_map(|(&i, &d)| (!d).then_some(i))
+            .collect(),
         steps: cascade.steps,
         tests: cascade.tests,
     }
 }
 
-/// What [`force_determined_unknowns`] did: per row, whether it was used (or left without a
-/// free class); the steps and the pivot tests, in order.
+/// What [`force_determined_unknowns`] did, with rows as indices into the system: the rows it
+/// neither used nor left without a free class (for the dense solve), and the steps and the
+/// pivot tests, in order.
 struct Cascaded {
-    done: Vec<bool>,
+    dense: Vec<usize>,
     steps: Vec<Step>,
     tests: Vec<PivotTest>,
 }
@@ -488,17 +502,14 @@ pub(crate) fn nearest_solution(
     let classes = Classes::new(sys, n);
     let mut class_fixed = classes.class_fixed();
     let dense: Vec<usize> = if cascade {
-        let rows: Vec<(&[(usize, f64)], f64)> =
-            classes.coupled.iter().map(|&i| sys.row(i)).collect();
-        let done =
-            force_determined_unknowns(&rows, &classes.class_of, &classes.fixed, &mut class_fixed)
-                .done;
-        classes
-            .coupled
-            .iter()
-            .zip(done)
-            .filter_map(|(&i, d)| (!d).then_some(i))
-            .collect()
+        force_determined_unknowns(
+            sys,
+            &classes.coupled,
+            &classes.class_of,
+            &classes.fixed,
+            &mut class_fixed,
+        )
+        .dense
     } else {
         classes.coupled.clone()
     };

@@ -40,66 +40,21 @@ impl Plan {
     /// Records the eliminations of [`nearest_solution`] on `sys` (`n` unknowns).
     fn record(sys: &System, n: usize) -> Plan {
         let classes = Classes::new(sys, n);
-        let rows: Vec<(&[(usize, f64)], f64)> =
-            classes.coupled.iter().map(|&i| sys.row(i)).collect();
         let mut class_fixed = classes.class_fixed();
-        let cascaded =
-            force_determined_unknowns(&rows, &classes.class_of, &classes.fixed, &mut class_fixed);
-        let row = |k: usize| classes.coupled[k];
+        let cascaded = force_determined_unknowns(
+            sys,
+            &classes.coupled,
+            &classes.class_of,
+            &classes.fixed,
+            &mut class_fixed,
+        );
         Plan {
             starts: sys.starts.clone(),
             columns: sys.terms.iter().map(|t| t.0).collect(),
             kinds: sys.kinds().collect(),
-            tests: cascaded
-                .tests
-                .into_iter()
-                .map(|t| match t {
-                    PivotTest::Single {
-                        row: k,
-                        class,
-                        pass,
-                    } => PivotTest::Single {
-                        row: row(k),
-                        class,
-                        pass,
-                    },
-                    PivotTest::PairRow {
-                        row: k,
-                        classes,
-                        pass,
-                    } => PivotTest::PairRow {
-                        row: row(k),
-                        classes,
-                        pass,
-                    },
-                    PivotTest::Pair {
-                        rows,
-                        classes,
-                        pass,
-                    } => PivotTest::Pair {
-                        rows: rows.map(row),
-                        classes,
-                        pass,
-                    },
-                })
-                .collect(),
-            steps: cascaded
-                .steps
-                .into_iter()
-                .map(|s| match s {
-                    Step::Single { row: k, class } => Step::Single { row: row(k), class },
-                    Step::Pair { rows, classes } => Step::Pair {
-                        rows: rows.map(row),
-                        classes,
-                    },
-                })
-                .collect(),
-            dense: classes
-                .coupled
-                .iter()
-                .zip(cascaded.done)
-                .filter_map(|(&i, d)| (!d).then_some(i))
-                .collect(),
+            tests: cascaded.tests,
+            steps: cascaded.steps,
+            dense: cascaded.dense,
             singles: classes.singles,
             class_of: classes.class_of,
             fixed_from: classes.fixed_from,
