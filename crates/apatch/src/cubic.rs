@@ -269,19 +269,25 @@ pub(crate) fn blossom_weights(a: [f64; 4], b: [f64; 4], d: [f64; 4]) -> Coeffs {
     w
 }
 
-/// The three blossom arguments of the coefficient `lambda`: `verts[s]` repeated `lambda[s]`
-/// times.
-pub(crate) fn blossom_args(verts: &[[f64; 4]; 4], lambda: [usize; 4]) -> [[f64; 4]; 3] {
-    let mut args = [[0.0; 4]; 3];
+/// The vertices of the three blossom arguments of the coefficient `lambda`: vertex `s`
+/// repeated `lambda[s]` times, in vertex order.
+pub(crate) fn arg_vertices(lambda: [usize; 4]) -> [usize; 3] {
+    let mut args = [0usize; 3];
     let mut n = 0;
     for (s, &l) in lambda.iter().enumerate() {
         for _ in 0..l {
-            args[n] = verts[s];
+            args[n] = s;
             n += 1;
         }
     }
     debug_assert_eq!(n, 3, "a cubic coefficient has three blossom arguments");
     args
+}
+
+/// The three blossom arguments of the coefficient `lambda`: `verts[s]` repeated `lambda[s]`
+/// times ([`arg_vertices`]).
+pub(crate) fn blossom_args(verts: &[[f64; 4]; 4], lambda: [usize; 4]) -> [[f64; 4]; 3] {
+    arg_vertices(lambda).map(|s| verts[s])
 }
 
 #[cfg(test)]

@@ -66,46 +66,55 @@ impl FaceCubic {
     }
 }
 
+/// What [`FaceFunction::edge_neighbour`] gives, borrowed: the face function's tetrahedron with
+/// the face `[p_i p_j apex]`, and its polynomial there, whose coefficients are read only when
+/// asked for (Step 6's lift needs only the tetrahedron; the edge cubics copy the coefficients
+/// to the stack, where `edge_neighbour` allocates a polynomial).
+pub(crate) struct EdgePiece<'a> {
+    /// The tetrahedron, apex last.
+    pub(crate) tet: &'a Tetrahedron,
+    poly: PiecePoly<'a>,
+}
+
+/// The polynomial of an [`EdgePiece`].
+enum PiecePoly<'a> {
+    /// A convex face's cubic with the rational term of the edge opposite corner `a` folded in
+    /// ([`FaceCubic::effective_coeffs`]).
+    Convex(&'a FaceCubic, usize),
+    /// The split face's sub-tetrahedron cubic.
+    Split(&'a BbPoly<f64, 4>),
+}
+
+impl EdgePiece<'_> {
+    /// The polynomial's coefficients.
+    pub(crate) fn coeffs(&self) -> cubic::Coeffs {
+        match self.poly {
+            PiecePoly::Convex(c, a) => c.effective_coeffs(a),
+            PiecePoly::Split(p) => cubic::coeffs_of(p),
+        }
+    }
+}
+
 impl FaceFunction {
-    /// The tetrahedron and the coefficients of [`FaceFunction::edge_neighbour`], borrowed and
-    /// on the stack (the edge cubics are built from these for every edge side: no copy of the
-    /// tetrahedron, no allocation).
-    pub(crate) fn edge_neighbour_parts(
+    /// The piece of F on `side` next to the face edge `(pi, pj)` ([`EdgePiece`]).
+    pub(crate) fn edge_piece(
         &self,
         side: Side,
         pi: DVec3,
         pj: DVec3,
-    ) -> Result<(&algesurf_bb::Tetrahedron, crate::cubic::Coeffs), ApatchError> {
+    ) -> Result<EdgePiece<'_>, ApatchError> {
         match (self, side) {
-            (FaceFunction::Convex { side: s, cubic }, _) if *s == side => {
-                let a = cubic.opposite_corner(pi, pj)?;
-                Ok((cubic.tetrahedron(), cubic.effective_coeffs(a)))
-            }
+            (FaceFunction::Convex { side: s, cubic }, _) if *s == side => Ok(EdgePiece {
+                tet: cubic.tetrahedron(),
+                poly: PiecePoly::Convex(cubic, cubic.opposite_corner(pi, pj)?),
+            }),
             (FaceFunction::Split(split), Side::Positive | Side::Negative) => {
                 let half = &split.sides[(side == Side::Negative) as usize];
                 let a = half.sub_tetrahedron_on(pi, pj)?;
-                Ok((&half.tets[a], crate::cubic::coeffs_of(&half.polys[a])))
-            }
-            _ => Err(no_tetrahedron_on(side)),
-        }
-    }
-
-    /// The tetrahedron of [`FaceFunction::edge_neighbour`] alone (Step 6's lift needs only the
-    /// neighbours' apexes and corners).
-    pub(crate) fn edge_neighbour_tetrahedron(
-        &self,
-        side: Side,
-        pi: DVec3,
-        pj: DVec3,
-    ) -> Result<&algesurf_bb::Tetrahedron, ApatchError> {
-        match (self, side) {
-            (FaceFunction::Convex { side: s, cubic }, _) if *s == side => {
-                cubic.opposite_corner(pi, pj)?;
-                Ok(cubic.tetrahedron())
-            }
-            (FaceFunction::Split(split), Side::Positive | Side::Negative) => {
-                let half = &split.sides[(side == Side::Negative) as usize];
-                Ok(&half.tets[half.sub_tetrahedron_on(pi, pj)?])
+                Ok(EdgePiece {
+                    tet: &half.tets[a],
+                    poly: PiecePoly::Split(&half.polys[a]),
+                })
             }
             _ => Err(no_tetrahedron_on(side)),
         }
@@ -244,9 +253,11 @@ impl EdgeCubic {
         pi: DVec3,
         pj: DVec3,
     ) -> Result<Self, ApatchError> {
-        let (tk, ck) = face_k.edge_neighbour_parts(side, pi, pj)?;
-        let (tl, cl) = face_l.edge_neighbour_parts(side, pi, pj)?;
-        Self::from_parts(pi, pj, (tk, &ck), (tl, &cl))
+        let (k, l) = (
+            face_k.edge_piece(side, pi, pj)?,
+            face_l.edge_piece(side, pi, pj)?,
+        );
+        Self::from_parts(pi, pj, (k.tet, &k.coeffs()), (l.tet, &l.coeffs()))
     }
 
     /// [`EdgeCubic::from_neighbours`] from each side's tetrahedron and coefficients.
@@ -322,15 +333,7 @@ impl EdgeCubic {
         let tau_l = [1.0, 0.0, 0.0, alpha_l];
         // The elevated blossom of τ² at the vertices repeated as λ says.
         let blossom = |tau: &[f64; 4], lambda: [usize; 4]| {
-            let mut args = [0.0; 3];
-            let mut n = 0;
-            for (s, &times) in lambda.iter().enumerate() {
-                for _ in 0..times {
-                    args[n] = tau[s];
-                    n += 1;
-                }
-            }
-            let [x, y, z] = args;
+            let [x, y, z] = cubic::arg_vertices(lambda).map(|s| tau[s]);
             (x * y + x * z + y * z) / 3.0
         };
         let coeffs = cubic::INDICES3.map(|lambda| match lambda {

@@ -31,7 +31,7 @@
 //! one-sided change is not a common lift of both faces, so no monotonicity is claimed: the edge
 //! bounds are simply re-established after every change.
 
-use crate::surface::{FaceFunction, edge_need};
+use crate::surface::{FaceFunction, edge_cubic, edge_need};
 use crate::{ApatchError, ApatchSurface, EdgeCubic, FreeParameter};
 use algesurf_hull::Side;
 
@@ -105,11 +105,7 @@ impl ApatchSurface {
         let delta = value - param.value;
         match &mut self.faces[face] {
             FaceFunction::Convex { cubic, .. } => cubic.set_f0003(value),
-            FaceFunction::Split(split) => {
-                for poly in &mut split.sides[slot(side)].polys {
-                    crate::geometry::add_apex_square(poly, delta);
-                }
-            }
+            FaceFunction::Split(split) => split.sides[slot(side)].raise_apex(delta),
             FaceFunction::Planar => unreachable!("planar faces have no free parameter"),
         }
         // The edge cubics on this side of the face's three edges.
@@ -132,7 +128,7 @@ impl ApatchSurface {
             .map(|&e| self.edges[e][slot(side)].clone())
             .collect();
         let rebuilt = edges.iter().try_for_each(|&e| -> Result<(), ApatchError> {
-            let cubic = self.edge_cubic(e, side)?;
+            let cubic = edge_cubic(&self.hull, &self.faces, e, side)?;
             self.edges[e][slot(side)] = Some(cubic);
             let need = edge_need(
                 &self.hull,
@@ -186,22 +182,5 @@ impl ApatchSurface {
             all.merge(&self.set_free_parameter(face, side, value)?);
         }
         Ok(all)
-    }
-
-    /// The edge cubic on `side` of hull edge `e`, rebuilt from its two faces.
-    fn edge_cubic(&self, e: usize, side: Side) -> Result<EdgeCubic, ApatchError> {
-        let he = &self.hull.edges()[e];
-        let pos = self.hull.mesh().positions();
-        let (pi, pj) = (pos[he.vertices[0] as usize], pos[he.vertices[1] as usize]);
-        let fl = he
-            .face_l
-            .ok_or_else(|| ApatchError::Inconsistent(format!("edge {e} is a boundary edge")))?;
-        EdgeCubic::between(
-            &self.faces[he.face_k as usize],
-            &self.faces[fl as usize],
-            side,
-            pi,
-            pj,
-        )
     }
 }

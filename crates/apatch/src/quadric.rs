@@ -61,15 +61,7 @@ impl Quadric {
         }
         let mut out = [0.0; 20];
         for (l, x) in crate::cubic::INDICES3.iter().zip(out.iter_mut()) {
-            let mut args = [0usize; 3];
-            let mut n = 0;
-            for (s, &times) in l.iter().enumerate() {
-                for _ in 0..times {
-                    args[n] = s;
-                    n += 1;
-                }
-            }
-            let [i, j, k] = args;
+            let [i, j, k] = crate::cubic::arg_vertices(*l);
             *x = (p[i][j] + p[i][k] + p[j][k]) / 3.0;
         }
         out

@@ -20,7 +20,7 @@
 
 use crate::constrained::{System, solve};
 use crate::cubic;
-use crate::geometry::{exact_barycentric, foot, snap_rounding_zeros};
+use crate::geometry::{add_apex_square, exact_barycentric, foot, snap_rounding_zeros};
 use crate::{ApatchError, Quadric, VertexData};
 use algesurf_bb::{BbPoly, Tetrahedron};
 use glam::DVec3;
@@ -83,6 +83,17 @@ impl System {
                 });
                 self.push(std::iter::once(row).chain(terms), 0.0);
             }
+        }
+    }
+}
+
+impl SplitSide {
+    /// Raises this side's apex value by `delta`: every piece gains exactly `δ·τ_apex²`
+    /// (`geometry::add_apex_square`), which meets every hard constraint with 1 at the apex, so
+    /// no second solve is needed.
+    pub(crate) fn raise_apex(&mut self, delta: f64) {
+        for poly in &mut self.polys {
+            add_apex_square(poly, delta);
         }
     }
 }

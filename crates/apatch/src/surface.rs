@@ -1,6 +1,5 @@
 //! The whole C1 function F over the simplicial hull of a mesh, and its free parameters.
 
-use crate::geometry::add_apex_square;
 use crate::sheet::{CERTIFIED_GAP, CERTIFIED_MAX_CELLS, certified_face_bound, lifted_b_min};
 use crate::{ApatchError, EdgeCubic, EdgeNeighbour, FaceCubic, Quadric, SplitFace, VertexData};
 use algesurf_bb::sheet::square::certified_square_lift_bound;
@@ -109,14 +108,11 @@ impl FaceFunction {
         pi: DVec3,
         pj: DVec3,
     ) -> Result<EdgeNeighbour, ApatchError> {
-        match (self, side) {
-            (FaceFunction::Convex { side: s, cubic }, _) if *s == side => {
-                cubic.edge_neighbour(pi, pj)
-            }
-            (FaceFunction::Split(split), Side::Positive) => split.sides[0].edge_neighbour(pi, pj),
-            (FaceFunction::Split(split), Side::Negative) => split.sides[1].edge_neighbour(pi, pj),
-            _ => Err(no_tetrahedron_on(side)),
-        }
+        let piece = self.edge_piece(side, pi, pj)?;
+        Ok(EdgeNeighbour {
+            tet: *piece.tet,
+            poly: algesurf_bb::BbPoly::new(3, piece.coeffs().to_vec()).expect("20 coefficients"),
+        })
     }
 }
 
@@ -446,13 +442,10 @@ fn build_face(
                 }
                 bounds[s] = worst;
                 if worst.is_finite() && worst > enough && sign * values[s] < worst + margin {
-                    // Raise the apex value; the solution moves by exactly δ·τ_apex² (see
-                    // `apex_square`), so no second solve is needed.
+                    // Raise the apex value (no second solve: `SplitSide::raise_apex`).
                     let delta = worst + margin - sign * values[s];
                     values[s] += sign * delta;
-                    for poly in &mut split.sides[s].polys {
-                        add_apex_square(poly, sign * delta);
-                    }
+                    split.sides[s].raise_apex(sign * delta);
                 }
             }
             let params = vec![
@@ -468,37 +461,51 @@ fn build_edges(
     hull: &SimplicialHull,
     faces: &[FaceFunction],
 ) -> Result<Vec<[Option<EdgeCubic>; 2]>, ApatchError> {
-    let pos = hull.mesh().positions();
     // The first error in edge order, whatever the thread count.
     collect_first_error(
         hull.edges().len(),
         |i| -> Result<[Option<EdgeCubic>; 2], ApatchError> {
             let e = &hull.edges()[i];
-            let (Some(fl), pi, pj) = (
-                e.face_l,
-                pos[e.vertices[0] as usize],
-                pos[e.vertices[1] as usize],
-            ) else {
+            if e.face_l.is_none() {
                 return Ok([None, None]);
-            };
-            let mut out = [None, None];
-            for (slot, side, present) in [
-                (0, Side::Positive, e.positive.is_some()),
-                (1, Side::Negative, e.negative.is_some()),
-            ] {
-                if present {
-                    out[slot] = Some(EdgeCubic::between(
-                        &faces[e.face_k as usize],
-                        &faces[fl as usize],
-                        side,
-                        pi,
-                        pj,
-                    )?);
-                }
             }
-            Ok(out)
+            let cubic = |present: bool, side| {
+                present
+                    .then(|| edge_cubic(hull, faces, i, side))
+                    .transpose()
+            };
+            Ok([
+                cubic(e.positive.is_some(), Side::Positive)?,
+                cubic(e.negative.is_some(), Side::Negative)?,
+            ])
         },
         || [None, None],
+    )
+}
+
+/// The edge cubic on `side` of hull edge `e`, from the pieces of its two faces on that side
+/// (Steps 7 and 9, [`EdgeCubic::between`]).
+///
+/// # Errors
+/// [`ApatchError::Inconsistent`] for a boundary edge or a face with no piece on `side`.
+pub(crate) fn edge_cubic(
+    hull: &SimplicialHull,
+    faces: &[FaceFunction],
+    e: usize,
+    side: Side,
+) -> Result<EdgeCubic, ApatchError> {
+    let he = &hull.edges()[e];
+    let fl = he
+        .face_l
+        .ok_or_else(|| ApatchError::Inconsistent(format!("edge {e} is a boundary edge")))?;
+    let pos = hull.mesh().positions();
+    let (pi, pj) = (pos[he.vertices[0] as usize], pos[he.vertices[1] as usize]);
+    EdgeCubic::between(
+        &faces[he.face_k as usize],
+        &faces[fl as usize],
+        side,
+        pi,
+        pj,
     )
 }
 
@@ -512,26 +519,19 @@ fn rebuild_raised_edges(
     mut edges: Vec<[Option<EdgeCubic>; 2]>,
     raise: &HashMap<(usize, Side), f64>,
 ) -> Result<Vec<[Option<EdgeCubic>; 2]>, ApatchError> {
-    let pos = hull.mesh().positions();
     edges
         .par_iter_mut()
-        .zip(hull.edges().par_iter())
-        .map(|(slots, e)| -> Result<(), ApatchError> {
+        .enumerate()
+        .map(|(i, slots)| -> Result<(), ApatchError> {
+            let e = &hull.edges()[i];
             let Some(fl) = e.face_l else {
                 return Ok(());
             };
-            let (pi, pj) = (pos[e.vertices[0] as usize], pos[e.vertices[1] as usize]);
             for (slot, side) in [(0usize, Side::Positive), (1usize, Side::Negative)] {
                 let raised = raise.contains_key(&(e.face_k as usize, side))
                     || raise.contains_key(&(fl as usize, side));
                 if raised && slots[slot].is_some() {
-                    slots[slot] = Some(EdgeCubic::between(
-                        &faces[e.face_k as usize],
-                        &faces[fl as usize],
-                        side,
-                        pi,
-                        pj,
-                    )?);
+                    slots[slot] = Some(edge_cubic(hull, faces, i, side)?);
                 }
             }
             Ok(())
@@ -582,8 +582,8 @@ pub(crate) fn edge_need(
     let lift = EdgeCubic::apex_square_lift(
         pi,
         pj,
-        faces[he.face_k as usize].edge_neighbour_tetrahedron(side, pi, pj)?,
-        faces[fl as usize].edge_neighbour_tetrahedron(side, pi, pj)?,
+        faces[he.face_k as usize].edge_piece(side, pi, pj)?.tet,
+        faces[fl as usize].edge_piece(side, pi, pj)?.tet,
     )?;
     let two_sided = edges[e][0].is_some() && edges[e][1].is_some();
     // The exact need of one ray: −∞ where it needs nothing (it starts on this side's far
@@ -759,9 +759,7 @@ fn build_function(
             FaceFunction::Convex { cubic, .. } => cubic.set_f0003(cubic.f0003() + sign * delta),
             FaceFunction::Split(split) => {
                 let s = if side == Side::Positive { 0 } else { 1 };
-                for poly in &mut split.sides[s].polys {
-                    add_apex_square(poly, sign * delta);
-                }
+                split.sides[s].raise_apex(sign * delta);
             }
             FaceFunction::Planar => {}
         }
