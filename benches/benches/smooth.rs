@@ -11,7 +11,7 @@
 //! once: a root of a shooting polynomial and a gradient).
 
 use algesurf::apatch::{ApatchSurface, SurfaceOptions};
-use algesurf::hull::Side;
+use algesurf::hull::{Side, SimplicialHull};
 use algesurf::mesh::{NormalMethod, TriMesh, shapes, vertex_normals};
 use divan::counter::ItemsCount;
 use divan::{Bencher, black_box};
@@ -67,14 +67,12 @@ fn bench_tessellate_8x8(bencher: Bencher, surface: &ApatchSurface) {
 /// CLI reads them (repair, Loop normals, default surface options).
 const CORPUS: [&str; 3] = ["spot", "fandisk", "teapot"];
 
-/// `tessellate(8, 8)` of a real mesh, the CLI's `smooth --resolution 8` stage: many more points
-/// than fit in cache, split faces and edge patches in the proportions of scanned models. Skipped
-/// (with a note) when `ALGESURF_CORPUS` is not set.
-#[divan::bench(args = CORPUS, sample_count = 10, sample_size = 1)]
-fn tessellation_corpus(bencher: Bencher, name: &str) {
+/// `$ALGESURF_CORPUS/NAME.obj`, repaired, with Loop normals; `None` (with a note naming the
+/// bench) when `ALGESURF_CORPUS` is not set.
+fn corpus_mesh(bench: &str, name: &str) -> Option<(TriMesh, Vec<DVec3>)> {
     let Some(dir) = std::env::var_os("ALGESURF_CORPUS") else {
-        eprintln!("tessellation_corpus: set ALGESURF_CORPUS to the corpus directory");
-        return;
+        eprintln!("{bench}: set ALGESURF_CORPUS to the corpus directory");
+        return None;
     };
     let path = std::path::Path::new(&dir).join(format!("{name}.obj"));
     let poly = algesurf::io::read(&path).expect("corpus mesh");
@@ -82,8 +80,54 @@ fn tessellation_corpus(bencher: Bencher, name: &str) {
         algesurf::mesh::repair(&poly, &algesurf::mesh::RepairOptions::default()).expect("repair");
     let m = TriMesh::from_polygon_mesh(&repaired.mesh).expect("triangle mesh");
     let n = vertex_normals(&m, NormalMethod::Loop).expect("Loop normals");
+    Some((m, n))
+}
+
+/// `tessellate(8, 8)` of a real mesh, the CLI's `smooth --resolution 8` stage: many more points
+/// than fit in cache, split faces and edge patches in the proportions of scanned models. Skipped
+/// (with a note) when `ALGESURF_CORPUS` is not set.
+#[divan::bench(args = CORPUS, sample_count = 10, sample_size = 1)]
+fn tessellation_corpus(bencher: Bencher, name: &str) {
+    let Some((m, n)) = corpus_mesh("tessellation_corpus", name) else {
+        return;
+    };
     let surface = ApatchSurface::new(&m, &n, &SurfaceOptions::default()).expect("surface");
     bench_tessellate_8x8(bencher, &surface);
+}
+
+/// The simplicial hull of the Stanford bunny (69 k faces) as `algesurf smooth` builds it: the
+/// normals and options the surface's own hull was built with, face and edge tetrahedra, the
+/// overlap check of every candidate pair (5.3 M), and the refinement rounds that resolve the
+/// overlaps (4 on the bunny). Counted in input faces. Skipped without `ALGESURF_CORPUS`.
+#[divan::bench(sample_count = 10, sample_size = 1)]
+fn hull_bunny(bencher: Bencher) {
+    let Some((m, n)) = corpus_mesh("hull_bunny", "stanford-bunny") else {
+        return;
+    };
+    let surface = ApatchSurface::new(&m, &n, &SurfaceOptions::default()).expect("surface");
+    let hull = surface.hull();
+    let normals = hull.normals()[..hull.input_vertex_count()].to_vec();
+    let options = hull.options().clone();
+    bencher
+        .counter(ItemsCount::new(m.face_count()))
+        .bench_local(|| {
+            SimplicialHull::from_mesh(black_box(&m), black_box(&normals), &options).expect("hull")
+        });
+}
+
+/// The overlap check alone (§3: every pair of the hull's tetrahedra whose boxes overlap,
+/// decided exactly) on the bunny's final hull, counted in tetrahedra. Skipped without
+/// `ALGESURF_CORPUS`.
+#[divan::bench(sample_count = 10, sample_size = 1)]
+fn hull_intersections_bunny(bencher: Bencher) {
+    let Some((m, n)) = corpus_mesh("hull_intersections_bunny", "stanford-bunny") else {
+        return;
+    };
+    let surface = ApatchSurface::new(&m, &n, &SurfaceOptions::default()).expect("surface");
+    let hull = surface.hull();
+    bencher
+        .counter(ItemsCount::new(hull.tetrahedra().len()))
+        .bench_local(|| black_box(hull).intersections());
 }
 
 /// A surface, its `tessellate(8, 8)`, and a free parameter in the middle of the list with two

@@ -7,7 +7,7 @@ use crate::classify::{
 use crate::{ApexPlacement, HullError, HullOptions};
 use algesurf_bb::Tetrahedron;
 use algesurf_mesh::TriMesh;
-use algesurf_mesh::parallel::collect_first_error;
+use algesurf_mesh::parallel::{collect_first_error, collect_first_error_into};
 use glam::DVec3;
 use rayon::prelude::*;
 
@@ -167,7 +167,8 @@ pub(crate) fn check_input(mesh: &TriMesh, normals: &[DVec3]) -> Result<(), HullE
     Ok(())
 }
 
-/// The faces and edges of the previous refinement round, for [`build`] to reuse.
+/// The faces and edges of the previous refinement round, for [`build`] to reuse (and, for
+/// the faces, to update in place).
 ///
 /// Refinement splits faces in place and appends the new halves (`EditMesh::split_edge`), so a
 /// face id that survives a round with the same corners is the same triangle: same positions,
@@ -175,20 +176,20 @@ pub(crate) fn check_input(mesh: &TriMesh, normals: &[DVec3]) -> Result<(), HullE
 /// classification, apexes and tetrahedra. Only its edge ids may change (the topology numbers
 /// the edges afresh). An edge whose two faces both survive has the same vertices, faces and
 /// apexes, hence the same edge tetrahedra.
-#[derive(Clone, Copy)]
-pub(crate) struct PreviousRound<'a> {
-    pub(crate) faces: &'a [HullFace],
-    pub(crate) edges: &'a [HullEdge],
+pub(crate) struct PreviousRound {
+    pub(crate) faces: Vec<HullFace>,
+    pub(crate) edges: Vec<HullEdge>,
 }
 
-impl PreviousRound<'_> {
-    /// Face `f`, when it survived with corners `t`.
-    fn face(&self, f: usize, t: &[u32; 3]) -> Option<&HullFace> {
-        self.faces.get(f).filter(|pf| pf.vertices == *t)
+impl PreviousRound {
+    /// Whether face `f` survived with corners `t`.
+    fn survived(&self, f: usize, t: &[u32; 3]) -> bool {
+        self.faces.get(f).is_some_and(|pf| pf.vertices == *t)
     }
 
     /// The previous round's edge with the vertices and faces of `edge`, when its faces
-    /// survived (`fresh_face` false for both).
+    /// survived (`fresh_face` false for both). Reads the previous round's edge ids of the
+    /// faces, so it must run before the faces are updated.
     fn edge(&self, edge: &HullEdge, fresh_face: &[bool]) -> Option<&HullEdge> {
         let face_l = edge.face_l?;
         if fresh_face[edge.face_k as usize] || fresh_face[face_l as usize] {
@@ -219,7 +220,7 @@ pub(crate) fn build(
     normals: &[DVec3],
     face_map: &[u32],
     opts: &HullOptions,
-    prev: Option<PreviousRound<'_>>,
+    prev: Option<PreviousRound>,
 ) -> Result<Built, HullError> {
     let topo = mesh.topology();
     let pos = mesh.positions();
@@ -293,134 +294,182 @@ pub(crate) fn build(
         Some(pr) => tris
             .par_iter()
             .enumerate()
-            .map(|(f, t)| pr.face(f, t).is_none())
+            .map(|(f, t)| !pr.survived(f, t))
             .collect(),
     };
-    let faces: Vec<HullFace> = collect_first_error(
-        tris.len(),
-        |f| -> Result<HullFace, HullError> {
-            let t = &tris[f];
-            let fe = face_edges(f);
-            if let (false, Some(pr)) = (fresh_faces[f], &prev) {
-                return Ok(HullFace {
-                    edges: fe,
-                    ..pr.faces[f].clone()
-                });
-            }
-            let corners = [p(t[0]), p(t[1]), p(t[2])];
-            let convexity = classify_face(fe.map(|e| edges[e as usize].convexity));
-            let longest = longest_edge(corners);
-            let cross = (corners[1] - corners[0]).cross(corners[2] - corners[0]);
-            let area_ok = cross.length() > 1e-14 * longest * longest; // false for NaN too
-            if !area_ok {
-                return Err(HullError::DegenerateFace {
-                    face: face_map[f],
-                    vertices: *t,
-                });
-            }
-            let normal = cross.normalize();
-            let centroid = (corners[0] + corners[1] + corners[2]) / 3.0;
-            let mut face = HullFace {
+    // The edge tetrahedra of the edges whose faces both survived are the previous round's
+    // (taken now: the lookup reads the faces' previous edge ids, which are updated below).
+    let mut reused_edge = vec![false; edges.len()];
+    if let Some(pr) = &prev {
+        edges
+            .par_iter_mut()
+            .zip(reused_edge.par_iter_mut())
+            .for_each(|(edge, reused)| {
+                if let Some(pe) = pr.edge(edge, &fresh_faces) {
+                    edge.positive = pe.positive;
+                    edge.negative = pe.negative;
+                    *reused = true;
+                }
+            });
+    }
+    let make_face = |f: usize| -> Result<HullFace, HullError> {
+        let t = &tris[f];
+        let fe = face_edges(f);
+        let corners = [p(t[0]), p(t[1]), p(t[2])];
+        let convexity = classify_face(fe.map(|e| edges[e as usize].convexity));
+        let longest = longest_edge(corners);
+        let cross = (corners[1] - corners[0]).cross(corners[2] - corners[0]);
+        let area_ok = cross.length() > 1e-14 * longest * longest; // false for NaN too
+        if !area_ok {
+            return Err(HullError::DegenerateFace {
+                face: face_map[f],
                 vertices: *t,
-                source_face: face_map[f],
-                convexity,
-                edges: fe,
-                centroid,
-                normal,
-                parameters: None,
-                positive: None,
-                negative: None,
-            };
-            if convexity != Convexity::ZeroConvex {
-                let params = apex_parameters(corners, t.map(n), normal, opts.epsilon * longest)
-                    .map_err(|l| HullError::NormalNotOnPositiveSide {
-                        face: face_map[f],
-                        vertex: t[l],
-                        cosine: normal.dot(n(t[l]).normalize()),
-                    })?;
-                let floor = opts.min_apex_height * longest;
-                // A nearest apex may lean far over a neighbour; standing at least ε off the face
-                // keeps its tetrahedron from going flat (see `ApexPlacement::Nearest`).
-                let lean_floor = opts.epsilon.max(opts.min_apex_height) * longest;
-                let margin = opts.epsilon * longest;
-                // The paper's t_max / t_min, pushed off the face to the floor.
-                let paper_t = |side: Side| match side {
-                    Side::Positive => params.t_max.max(floor),
-                    Side::Negative => params.t_min.min(-floor),
-                };
-                let nearest = opts.apex == ApexPlacement::Nearest;
-                // A nonconvex face's two apexes are placed together (on one line through c).
-                let pair = (nearest && convexity == Convexity::Nonconvex)
-                    .then(|| nearest_apex_pair(corners, t.map(n), normal, margin, lean_floor))
-                    .flatten();
-                let placed = |side: Side| -> Option<DVec3> {
-                    if !nearest {
-                        return None;
-                    }
-                    if convexity == Convexity::Nonconvex {
-                        return pair.map(|(u, v)| if side == Side::Positive { u } else { v });
-                    }
-                    nearest_apex(corners, t.map(n), normal, margin, lean_floor, side)
-                };
-                let make = |side: Side| -> Result<FaceTetrahedron, HullError> {
-                    // Where the quadratic program has no solution (only rounding on degenerate
-                    // data can do that), the paper's apex, which always satisfies it.
-                    let (apex, tt) = match placed(side) {
-                        Some(apex) => (apex, (apex - centroid).dot(normal)),
-                        None => (centroid + paper_t(side) * normal, paper_t(side)),
-                    };
-                    let tetrahedron = Tetrahedron::new([corners[0], corners[1], corners[2], apex])
-                        .map_err(|source| HullError::DegenerateTetrahedron {
-                            what: if side == Side::Positive {
-                                "positive face"
-                            } else {
-                                "negative face"
-                            },
-                            element: face_name(face_map, f),
-                            source,
-                        })?;
-                    Ok(FaceTetrahedron {
-                        side,
-                        t: tt,
-                        apex,
-                        tetrahedron,
-                    })
-                };
-                if convexity.has_positive_side() {
-                    face.positive = Some(make(Side::Positive)?);
-                }
-                if convexity.has_negative_side() {
-                    face.negative = Some(make(Side::Negative)?);
-                }
-                face.parameters = Some(params);
-            }
-            Ok(face)
-        },
-        || HullFace {
-            vertices: [0; 3],
-            source_face: 0,
-            convexity: Convexity::ZeroConvex,
-            edges: [0; 3],
-            centroid: DVec3::ZERO,
-            normal: DVec3::ZERO,
+            });
+        }
+        let normal = cross.normalize();
+        let centroid = (corners[0] + corners[1] + corners[2]) / 3.0;
+        let mut face = HullFace {
+            vertices: *t,
+            source_face: face_map[f],
+            convexity,
+            edges: fe,
+            centroid,
+            normal,
             parameters: None,
             positive: None,
             negative: None,
-        },
-    )?;
+        };
+        if convexity != Convexity::ZeroConvex {
+            let params = apex_parameters(corners, t.map(n), normal, opts.epsilon * longest)
+                .map_err(|l| HullError::NormalNotOnPositiveSide {
+                    face: face_map[f],
+                    vertex: t[l],
+                    cosine: normal.dot(n(t[l]).normalize()),
+                })?;
+            let floor = opts.min_apex_height * longest;
+            // A nearest apex may lean far over a neighbour; standing at least ε off the face
+            // keeps its tetrahedron from going flat (see `ApexPlacement::Nearest`).
+            let lean_floor = opts.epsilon.max(opts.min_apex_height) * longest;
+            let margin = opts.epsilon * longest;
+            // The paper's t_max / t_min, pushed off the face to the floor.
+            let paper_t = |side: Side| match side {
+                Side::Positive => params.t_max.max(floor),
+                Side::Negative => params.t_min.min(-floor),
+            };
+            let nearest = opts.apex == ApexPlacement::Nearest;
+            // A nonconvex face's two apexes are placed together (on one line through c).
+            let pair = (nearest && convexity == Convexity::Nonconvex)
+                .then(|| nearest_apex_pair(corners, t.map(n), normal, margin, lean_floor))
+                .flatten();
+            let placed = |side: Side| -> Option<DVec3> {
+                if !nearest {
+                    return None;
+                }
+                if convexity == Convexity::Nonconvex {
+                    return pair.map(|(u, v)| if side == Side::Positive { u } else { v });
+                }
+                nearest_apex(corners, t.map(n), normal, margin, lean_floor, side)
+            };
+            let make = |side: Side| -> Result<FaceTetrahedron, HullError> {
+                // Where the quadratic program has no solution (only rounding on degenerate
+                // data can do that), the paper's apex, which always satisfies it.
+                let (apex, tt) = match placed(side) {
+                    Some(apex) => (apex, (apex - centroid).dot(normal)),
+                    None => (centroid + paper_t(side) * normal, paper_t(side)),
+                };
+                let tetrahedron = Tetrahedron::new([corners[0], corners[1], corners[2], apex])
+                    .map_err(|source| HullError::DegenerateTetrahedron {
+                        what: if side == Side::Positive {
+                            "positive face"
+                        } else {
+                            "negative face"
+                        },
+                        element: face_name(face_map, f),
+                        source,
+                    })?;
+                Ok(FaceTetrahedron {
+                    side,
+                    t: tt,
+                    apex,
+                    tetrahedron,
+                })
+            };
+            if convexity.has_positive_side() {
+                face.positive = Some(make(Side::Positive)?);
+            }
+            if convexity.has_negative_side() {
+                face.negative = Some(make(Side::Negative)?);
+            }
+            face.parameters = Some(params);
+        }
+        Ok(face)
+    };
+    let filler = || HullFace {
+        vertices: [0; 3],
+        source_face: 0,
+        convexity: Convexity::ZeroConvex,
+        edges: [0; 3],
+        centroid: DVec3::ZERO,
+        normal: DVec3::ZERO,
+        parameters: None,
+        positive: None,
+        negative: None,
+    };
+    let faces: Vec<HullFace> = match prev {
+        None => {
+            // Room for the halves that refinement rounds append (a few hundred faces on the
+            // bunny), so that they do not move the 43 MB vector to fresh memory.
+            let mut faces = Vec::with_capacity(tris.len() + tris.len() / 64 + 16);
+            collect_first_error_into(&mut faces, tris.len(), make_face, filler)?;
+            faces
+        }
+        // The previous round's faces, updated in place (refinement only appends faces): a
+        // survivor gets its new edge ids, a split face is built again, and the new halves are
+        // appended. On the bunny this saves copying 43 MB of faces per round.
+        Some(PreviousRound {
+            faces: mut kept,
+            edges: _,
+        }) => {
+            kept.truncate(tris.len());
+            let first_error = kept
+                .par_iter_mut()
+                .enumerate()
+                .filter_map(|(f, face)| {
+                    if !fresh_faces[f] {
+                        face.edges = face_edges(f);
+                        return None;
+                    }
+                    match make_face(f) {
+                        Ok(built) => {
+                            *face = built;
+                            None
+                        }
+                        Err(e) => Some((f, e)),
+                    }
+                })
+                .min_by_key(|(f, _)| *f);
+            if let Some((_, e)) = first_error {
+                return Err(e);
+            }
+            let start = kept.len();
+            let appended =
+                collect_first_error(tris.len() - start, |i| make_face(start + i), filler)?;
+            kept.extend(appended);
+            kept
+        }
+    };
 
     // Edge tetrahedra (§3.2).
     let done: Vec<Result<bool, HullError>> = edges
         .par_iter_mut()
-        .map(|edge| -> Result<bool, HullError> {
+        .zip(reused_edge.par_iter())
+        .map(|(edge, &reused)| -> Result<bool, HullError> {
+            if reused {
+                return Ok(false);
+            }
             let (Some(face_l), Some(l)) = (edge.face_l, edge.l) else {
                 return Ok(true); // boundary: no edge tetrahedra
             };
-            if let Some(pe) = prev.as_ref().and_then(|pr| pr.edge(edge, &fresh_faces)) {
-                edge.positive = pe.positive;
-                edge.negative = pe.negative;
-                return Ok(false);
-            }
             let [i, j] = edge.vertices;
             for side in [Side::Positive, Side::Negative] {
                 let wanted = match side {
@@ -505,8 +554,8 @@ mod tests {
         state.finish_round().unwrap();
         let build_now = |prev| build(&state.mesh, &state.normals, &state.face_map, &opts, prev);
         let reused = build_now(Some(PreviousRound {
-            faces: &first.faces,
-            edges: &first.edges,
+            faces: first.faces.clone(),
+            edges: first.edges.clone(),
         }))
         .unwrap();
         let scratch = build_now(None).unwrap();

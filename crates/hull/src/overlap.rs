@@ -25,7 +25,36 @@ const FACES: [(usize, usize, usize); 4] = [(1, 2, 3), (0, 2, 3), (0, 1, 3), (0, 
 /// with their distance from the origin: a shared vertex projects to values within a few ulps
 /// of `D` of the face's own.
 pub fn overlap_depth(a: &[DVec3; 4], b: &[DVec3; 4]) -> f64 {
-    depth_until(a, &FacePlanes::of(a), b, &FacePlanes::of(b), 0.0)
+    depth_until(
+        a,
+        &FacePlanes::of(a),
+        b,
+        &FacePlanes::of(b),
+        pair_diagonal(a, b),
+        0.0,
+    )
+}
+
+/// The bounding box of a tetrahedron's vertices, `(min, max)`.
+pub(crate) fn tet_box(v: &[DVec3; 4]) -> (DVec3, DVec3) {
+    let (mut lo, mut hi) = (v[0], v[0]);
+    for p in &v[1..] {
+        lo = lo.min(*p);
+        hi = hi.max(*p);
+    }
+    (lo, hi)
+}
+
+/// `D` of [`overlap_depth`]: the diagonal of the common bounding box of two boxes. From the
+/// two tetrahedra's own boxes it is the same number as from their eight vertices (min and
+/// max are exact), which lets the pair test read it off the boxes a tree already holds.
+pub(crate) fn common_diagonal(a: &(DVec3, DVec3), b: &(DVec3, DVec3)) -> f64 {
+    (a.1.max(b.1) - a.0.min(b.0)).length()
+}
+
+/// `D` of [`overlap_depth`] from the two tetrahedra's vertices.
+fn pair_diagonal(a: &[DVec3; 4], b: &[DVec3; 4]) -> f64 {
+    common_diagonal(&tet_box(a), &tet_box(b))
 }
 
 /// A tetrahedron's four face planes, computed once for its many overlap tests: the unit normal
@@ -66,20 +95,16 @@ impl FacePlanes {
 /// `tol`). Adjacent tetrahedra — most candidate pairs of a hull — touch along a shared face,
 /// edge or vertex, so some axis shows an overlap of 0 (up to rounding), not a negative one;
 /// stopping at the tolerance instead of below 0 lets them exit at that axis instead of
-/// trying all 44. `pa`, `pb` are the tetrahedra's [`FacePlanes`].
+/// trying all 44. `pa`, `pb` are the tetrahedra's [`FacePlanes`], `d` the diagonal of their
+/// common bounding box ([`common_diagonal`]).
 pub(crate) fn depth_until(
     a: &[DVec3; 4],
     pa: &FacePlanes,
     b: &[DVec3; 4],
     pb: &FacePlanes,
+    d: f64,
     stop: f64,
 ) -> f64 {
-    let (mut lo, mut hi) = (a[0], a[0]);
-    for p in a.iter().chain(b.iter()) {
-        lo = lo.min(*p);
-        hi = hi.max(*p);
-    }
-    let d = (hi - lo).length();
     if d == 0.0 || !d.is_finite() {
         return 0.0;
     }
@@ -154,7 +179,8 @@ pub(crate) fn depth_until(
 /// assert!(tetrahedra_overlap(&a, &c, 1e-9));
 /// ```
 pub fn tetrahedra_overlap(a: &[DVec3; 4], b: &[DVec3; 4], tolerance: f64) -> bool {
-    depth_until(a, &FacePlanes::of(a), b, &FacePlanes::of(b), tolerance) > tolerance
+    let d = pair_diagonal(a, b);
+    depth_until(a, &FacePlanes::of(a), b, &FacePlanes::of(b), d, tolerance) > tolerance
 }
 
 #[cfg(test)]

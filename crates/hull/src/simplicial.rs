@@ -212,7 +212,7 @@ impl SimplicialHull {
         // The error to report if a refinement round makes the hull invalid.
         let mut pending: Option<HullError> = None;
         // The previous round's faces and edges, reused where they survived.
-        let mut previous: Option<(Vec<HullFace>, Vec<HullEdge>)> = None;
+        let mut previous: Option<PreviousRound> = None;
         // The connected component of every input face: bisection keeps a face's children in
         // its component and joins no two, so a face's component in any round is its input
         // face's (`face_map`), and the mesh's components are found once, not every round.
@@ -231,14 +231,13 @@ impl SimplicialHull {
             ic
         };
         loop {
+            let reusing = previous.is_some();
             let built = build_faces_edges(
                 &state.mesh,
                 &state.normals,
                 &state.face_map,
                 options,
-                previous
-                    .as_ref()
-                    .map(|(faces, edges)| PreviousRound { faces, edges }),
+                previous.take(),
             );
             let Built {
                 faces,
@@ -290,7 +289,7 @@ impl SimplicialHull {
                     .map(|&g| input_component[g as usize])
                     .collect();
                 // Survivors were checked against each other in the previous round.
-                let found = if previous.is_some() {
+                let found = if reusing {
                     hull.fresh_intersections(&fresh_faces, &fresh_edges)
                 } else {
                     hull.intersections()
@@ -351,7 +350,10 @@ impl SimplicialHull {
                 state.bisect_face(f, c, round)?;
             }
             state.finish_round()?;
-            previous = Some((hull.faces, hull.edges));
+            previous = Some(PreviousRound {
+                faces: hull.faces,
+                edges: hull.edges,
+            });
             round += 1;
         }
     }

@@ -26,8 +26,29 @@ pub fn collect_first_error<T: Send, E: Send>(
     f: impl Fn(usize) -> Result<T, E> + Sync,
     filler: impl Fn() -> T + Sync,
 ) -> Result<Vec<T>, E> {
+    let mut out = Vec::new();
+    collect_first_error_into(&mut out, n, f, filler)?;
+    Ok(out)
+}
+
+/// [`collect_first_error`] into `out` (its contents replaced), reusing its allocation when it
+/// has room for `n` values: for a result that will grow later, allocated once with room for
+/// that. On an error `out` holds unspecified values.
+///
+/// ```
+/// use algesurf_mesh::parallel::collect_first_error_into;
+/// let mut v = Vec::with_capacity(10);
+/// collect_first_error_into(&mut v, 4, |i| Ok::<_, ()>(i + 1), || 0).unwrap();
+/// assert_eq!((v.as_slice(), v.capacity() >= 10), (&[1, 2, 3, 4][..], true));
+/// ```
+pub fn collect_first_error_into<T: Send, E: Send>(
+    out: &mut Vec<T>,
+    n: usize,
+    f: impl Fn(usize) -> Result<T, E> + Sync,
+    filler: impl Fn() -> T + Sync,
+) -> Result<(), E> {
     let first: Mutex<Option<(usize, E)>> = Mutex::new(None);
-    let out: Vec<T> = (0..n)
+    (0..n)
         .into_par_iter()
         .map(|i| {
             f(i).unwrap_or_else(|e| {
@@ -39,10 +60,10 @@ pub fn collect_first_error<T: Send, E: Send>(
                 filler()
             })
         })
-        .collect();
+        .collect_into_vec(out);
     match first.into_inner().unwrap_or_else(|p| p.into_inner()) {
         Some((_, e)) => Err(e),
-        None => Ok(out),
+        None => Ok(()),
     }
 }
 

@@ -8,6 +8,7 @@
 //! report those situations instead of failing.
 
 use crate::MeshError;
+use rayon::prelude::*;
 
 /// Marker for "no element".
 pub const NONE: u32 = u32::MAX;
@@ -185,7 +186,10 @@ impl Topology {
 
     fn build_edges(&mut self) {
         let n = self.corners.len();
+        // The sort is most of the build (6 ms of the bunny's 208 k corners on one core); in
+        // parallel it is the same order, as the keys are distinct (corner ids break ties).
         let mut keys: Vec<(u64, u32)> = (0..n)
+            .into_par_iter()
             .map(|c| {
                 let a = self.corners[c];
                 let b = self.corners[self.next(c as u32) as usize];
@@ -193,7 +197,7 @@ impl Topology {
                 (((lo as u64) << 32) | hi as u64, c as u32)
             })
             .collect();
-        keys.sort_unstable();
+        keys.par_sort_unstable();
         self.corner_edge = vec![NONE; n];
         self.edge_offsets = Vec::with_capacity(n / 2 + 1);
         self.edge_offsets.push(0);

@@ -4,19 +4,9 @@
 
 use super::{Element, HullTetrahedron, Intersection, SimplicialHull};
 use crate::bvh::Bvh;
-use crate::overlap::{FacePlanes, depth_until};
+use crate::overlap::{FacePlanes, common_diagonal, depth_until, tet_box};
 use glam::DVec3;
 use rayon::prelude::*;
-
-/// The bounding box of a tetrahedron.
-fn tet_box(v: &[DVec3; 4]) -> (DVec3, DVec3) {
-    let (mut lo, mut hi) = (v[0], v[0]);
-    for p in &v[1..] {
-        lo = lo.min(*p);
-        hi = hi.max(*p);
-    }
-    (lo, hi)
-}
 
 impl SimplicialHull {
     /// The tetrahedra of element `k`, positive before negative: face `k` for
@@ -62,29 +52,50 @@ impl SimplicialHull {
             .collect()
     }
 
+    /// Tetrahedron `s` (0 or 1: positive before negative) of element `k`, as numbered by
+    /// [`SimplicialHull::element_tets`].
+    fn element_tet(&self, (k, s): (u32, u8)) -> HullTetrahedron {
+        self.element_tets(k as usize)
+            .nth(s as usize)
+            .expect("an element's tetrahedra are counted before they are named")
+    }
+
     /// All pairs of tetrahedra of Σ whose interiors overlap by more than
     /// [`crate::HullOptions::overlap_tolerance`] — adjacent or not — ordered by their indices
     /// in [`SimplicialHull::tetrahedra`]. Candidate pairs come from a bounding-volume hierarchy
     /// over the tetrahedra's boxes; each candidate is decided by [`crate::overlap_depth`].
     /// Empty for a valid hull.
     pub fn intersections(&self) -> Vec<Intersection> {
-        let tets = self.tetrahedra();
         let tol = self.options.overlap_tolerance;
+        // Each tetrahedron named by its element and its place there, in `tetrahedra()` order
+        // (8 bytes each instead of the 112 of a listed tetrahedron: the list is 30 MB on the
+        // bunny, and only the overlapping pairs are ever looked up by index).
+        let ids: Vec<(u32, u8)> = (0..self.faces.len() + self.edges.len())
+            .into_par_iter()
+            .flat_map_iter(|k| (0..self.element_tets(k).count()).map(move |s| (k as u32, s as u8)))
+            .collect();
         // One self-join of a tree over every box, in parallel, every pair tested once. The
         // vertices and face planes (computed once per tetrahedron: each takes part in ~40
         // candidate pairs on the bunny) are copied into the tree's Morton order, so that the
         // pairs of neighbouring leaves read neighbouring memory. Each pair is tested in the
         // order of its indices, `depth_until(lower, higher)`, whichever way the walk meets it.
-        let bvh = Bvh::new(tets.par_iter().map(|t| tet_box(&t.vertices)).collect());
+        let bvh = Bvh::new(
+            ids.par_iter()
+                .map(|&id| tet_box(&self.element_tet(id).vertices))
+                .collect(),
+        );
         let order = bvh.order();
         let verts: Vec<[DVec3; 4]> = order
             .par_iter()
-            .map(|&i| tets[i as usize].vertices)
+            .map(|&i| self.element_tet(ids[i as usize]).vertices)
             .collect();
         let planes: Vec<FacePlanes> = verts.par_iter().map(FacePlanes::of).collect();
         let mut pairs: Vec<(u32, u32, f64)> = bvh.slot_pairs(|a, b| {
             let (a, b) = if order[a] < order[b] { (a, b) } else { (b, a) };
-            let depth = depth_until(&verts[a], &planes[a], &verts[b], &planes[b], tol);
+            // The pair's common box from the two boxes the tree holds: the same corners
+            // (min and max are exact) as from the eight vertices.
+            let d = common_diagonal(bvh.slot_box(a), bvh.slot_box(b));
+            let depth = depth_until(&verts[a], &planes[a], &verts[b], &planes[b], d, tol);
             (depth > tol).then_some((order[a], order[b], depth))
         });
         // Sorting makes the list (and the refinement driven by it) independent of the thread
@@ -93,8 +104,8 @@ impl SimplicialHull {
         pairs
             .into_iter()
             .map(|(a, b, depth)| Intersection {
-                first: tets[a as usize],
-                second: tets[b as usize],
+                first: self.element_tet(ids[a as usize]),
+                second: self.element_tet(ids[b as usize]),
                 depth,
             })
             .collect()
@@ -159,7 +170,8 @@ impl SimplicialHull {
         let tol = self.options.overlap_tolerance;
         let mut pairs = Bvh::marked_pairs(&marked, items, |(i, a), (j, b)| {
             let (va, vb) = (&a.vertices, &b.vertices);
-            let depth = depth_until(va, &FacePlanes::of(va), vb, &FacePlanes::of(vb), tol);
+            let d = common_diagonal(&tet_box(va), &tet_box(vb));
+            let depth = depth_until(va, &FacePlanes::of(va), vb, &FacePlanes::of(vb), d, tol);
             (depth > tol).then_some((
                 i,
                 j,
