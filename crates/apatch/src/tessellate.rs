@@ -94,6 +94,30 @@ pub(crate) struct RayPoint {
 
 /// The rays of `count` patches of `per` rays each, in blocks of consecutive patches (see
 /// [`ApatchSurface::tessellate`], pass 1).
+/// Patches per block of [`patch_blocks`]: `count / 64`, at least 16 and at most 1024 (dozens
+/// of tasks for every thread, each long enough to dwarf rayon's cost of one).
+fn block_size(count: usize) -> usize {
+    (count / 64).clamp(16, 1024)
+}
+
+/// `0..count` cut into consecutive blocks of [`block_size`] patches (the last one shorter).
+fn patch_blocks(count: usize) -> Vec<std::ops::Range<usize>> {
+    let size = block_size(count);
+    (0..count.div_ceil(size))
+        .map(|b| b * size..((b + 1) * size).min(count))
+        .collect()
+}
+
+/// `n` copies of `x`, written in parallel. A fresh output buffer is mapped by the kernel a page
+/// at a time on first write; written by one thread (`vec![x; n]`, or a zeroed allocation the
+/// allocator clears), the 60 MB of the bunny's tessellation arrays kept one core zeroing pages
+/// while the other waited. Written in parallel, each thread maps its own part.
+fn filled<T: Copy + Send + Sync>(n: usize, x: T) -> Vec<T> {
+    let mut v = Vec::with_capacity(n);
+    v.par_extend((0..n).into_par_iter().map(|_| x));
+    v
+}
+
 struct RayBlocks {
     blocks: Vec<Vec<RayPoint>>,
     /// Patches per block.
@@ -105,11 +129,10 @@ struct RayBlocks {
 impl RayBlocks {
     /// Evaluates the blocks in parallel; `fill(patch, out)` appends the patch's `per` rays.
     fn new(count: usize, per: usize, fill: impl Fn(usize, &mut Vec<RayPoint>) + Sync) -> Self {
-        let size = (count / 64).clamp(16, 1024);
-        let blocks = (0..count.div_ceil(size))
+        let size = block_size(count);
+        let blocks = patch_blocks(count)
             .into_par_iter()
-            .map(|b| {
-                let patches = b * size..((b + 1) * size).min(count);
+            .map(|patches| {
                 let mut out = Vec::with_capacity(patches.len() * per);
                 for p in patches {
                     fill(p, &mut out);
@@ -233,38 +256,81 @@ impl ApatchSurface {
             }
         }
 
-        // 4. Triangles: n² per face patch, then the edge patches'.
+        // 4. Triangles: n² per face patch, then the edge patches', in blocks of consecutive
+        // patches (as the rays): a block of edge patches appends its triangles to one buffer,
+        // and the output is split into one slice per block (a hundred or so), not one per
+        // patch (174 k on the bunny: building those lists on one thread was a fifth of the
+        // stage). The outputs are first written in parallel ([`filled`]).
         let n2 = n * n;
-        let edge_tris: Vec<Vec<[u32; 3]>> = (0..ne)
+        let edge_blocks: Vec<(Vec<[u32; 3]>, Vec<u32>)> = patch_blocks(ne)
             .into_par_iter()
-            .map(|e| self.edge_triangles(e, n, m, &edges_of, &num))
+            .map(|edges| {
+                let mut tris = Vec::with_capacity(edges.len() * 2 * n * m);
+                let mut counts = Vec::with_capacity(edges.len());
+                for e in edges {
+                    let before = tris.len();
+                    self.edge_triangles(e, n, m, &edges_of, &num, &mut tris);
+                    counts.push((tris.len() - before) as u32);
+                }
+                (tris, counts)
+            })
             .collect();
-        let lengths: Vec<usize> = std::iter::repeat_n(n2, nf)
-            .chain(edge_tris.iter().map(Vec::len))
+        let face_blocks = patch_blocks(nf);
+        let lengths: Vec<usize> = face_blocks
+            .iter()
+            .map(|b| b.len() * n2)
+            .chain(edge_blocks.iter().map(|b| b.0.len()))
             .collect();
         let tri_count: usize = lengths.iter().sum();
-        let mut triangles = vec![[0u32; 3]; tri_count];
-        let mut triangle_patch = vec![0u32; tri_count];
-        let mut triangle_kind = vec![PatchKind::Edge; tri_count];
+        let mut triangles = filled(tri_count, [0u32; 3]);
+        let mut triangle_patch = filled(tri_count, 0u32);
+        let mut triangle_kind = filled(tri_count, PatchKind::Edge);
+        let edge_starts = patch_blocks(ne).into_iter().map(|b| b.start);
+        let block_patches: Vec<(usize, Option<usize>)> = face_blocks
+            .iter()
+            .map(|b| (b.start, None))
+            .chain(
+                edge_starts
+                    .enumerate()
+                    .map(|(k, start)| (nf + start, Some(k))),
+            )
+            .collect();
         split_by_lengths(&mut triangles, &lengths)
             .into_par_iter()
             .zip(split_by_lengths(&mut triangle_patch, &lengths))
             .zip(split_by_lengths(&mut triangle_kind, &lengths))
-            .enumerate()
-            .for_each(|(p, ((tris, patch), kind))| {
-                patch.fill(p as u32);
-                if p < nf {
-                    let k = if matches!(self.faces()[p], FaceFunction::Planar) {
-                        PatchKind::Planar
-                    } else {
-                        PatchKind::Face
-                    };
-                    kind.fill(k);
-                    face_triangles(&num.face_ids[p * per_face..(p + 1) * per_face], n, tris);
-                } else {
-                    tris.copy_from_slice(&edge_tris[p - nf]);
-                }
-            });
+            .zip(block_patches)
+            .for_each(
+                |(((tris, patch), kind), (first, edge_block))| match edge_block {
+                    None => {
+                        let faces = tris.chunks_mut(n2).zip(patch.chunks_mut(n2));
+                        for (f, ((tris, patch), kind)) in faces.zip(kind.chunks_mut(n2)).enumerate()
+                        {
+                            let p = first + f;
+                            patch.fill(p as u32);
+                            kind.fill(if matches!(self.faces()[p], FaceFunction::Planar) {
+                                PatchKind::Planar
+                            } else {
+                                PatchKind::Face
+                            });
+                            face_triangles(
+                                &num.face_ids[p * per_face..(p + 1) * per_face],
+                                n,
+                                tris,
+                            );
+                        }
+                    }
+                    Some(k) => {
+                        let (block, counts) = &edge_blocks[k];
+                        tris.copy_from_slice(block);
+                        let mut at = 0;
+                        for (e, &c) in counts.iter().enumerate() {
+                            patch[at..at + c as usize].fill((first + e) as u32);
+                            at += c as usize;
+                        }
+                    }
+                },
+            );
 
         Ok(Tessellation {
             positions,
@@ -304,12 +370,16 @@ impl ApatchSurface {
         let per_face = grid.len();
         let inner = (n - 1) * (m - 1);
         let classes: Vec<GridPoint> = grid.iter().map(|g| grid_point(g, n)).collect();
+        // The pass below is serial; its buffers are first written in parallel ([`filled`]),
+        // `source` too (then emptied: its pushes land in memory already mapped).
+        let mut source = filled(nf * per_face + ne * inner, (0u32, 0u32));
+        source.clear();
         let mut num = Numbering {
-            face_ids: vec![0; nf * per_face],
-            edge_ids: vec![u32::MAX; ne * inner],
-            source: Vec::with_capacity(nf * per_face + ne * inner),
-            on_edge: vec![u32::MAX; ne * (n + 1)],
-            face_row: vec![u32::MAX; nf * 3 * (n + 1)],
+            face_ids: filled(nf * per_face, 0),
+            edge_ids: filled(ne * inner, u32::MAX),
+            source,
+            on_edge: filled(ne * (n + 1), u32::MAX),
+            face_row: filled(nf * 3 * (n + 1), u32::MAX),
         };
         // The next vertex id, for ray `k` of patch `patch`.
         let new = |source: &mut Vec<(u32, u32)>, patch: usize, k: usize| -> u32 {
@@ -391,10 +461,11 @@ impl ApatchSurface {
         m: usize,
         edges_of: &[[usize; 3]],
         num: &Numbering,
-    ) -> Vec<[u32; 3]> {
+        out: &mut Vec<[u32; 3]>,
+    ) {
         let inner = (n - 1) * (m - 1);
         if !self.has_edge_patch(e) {
-            return Vec::new();
+            return;
         }
         let he = &self.hull().edges()[e];
         let fl = he.face_l.expect("edge patches are interior") as usize;
@@ -430,7 +501,6 @@ impl ApatchSurface {
                 };
             }
         }
-        let mut out = Vec::with_capacity(2 * n * m);
         for i in 0..n {
             for j in 0..m {
                 let a = ids[i * (m + 1) + j];
@@ -444,7 +514,6 @@ impl ApatchSurface {
                 }
             }
         }
-        out
     }
 
     /// The rays of face `f` at every point of `grid` (level `n`); the corners (mesh vertices,
@@ -616,6 +685,26 @@ mod tests {
 
     /// With one step across (`m = 1`) the edge patches have no interior rays but still close
     /// the gap between the face patches' rows (they were once skipped, leaving holes).
+    /// The blocks cut `0..count` into consecutive ranges, every patch once, with the sizes
+    /// [`super::block_size`] promises; [`super::filled`] gives `n` copies.
+    #[test]
+    fn patch_blocks_cover_every_patch_once() {
+        for count in [0, 1, 15, 16, 17, 1023, 1024, 1025, 70_000, 200_000] {
+            let blocks = super::patch_blocks(count);
+            let size = super::block_size(count);
+            let mut next = 0;
+            for (k, b) in blocks.iter().enumerate() {
+                assert_eq!(b.start, next, "count {count}, block {k}");
+                assert!(!b.is_empty() && b.len() <= size, "count {count}, block {k}");
+                assert!(b.len() == size || k + 1 == blocks.len(), "count {count}");
+                next = b.end;
+            }
+            assert_eq!(next, count);
+        }
+        assert_eq!(super::filled(5, [1u32, 2, 3]), vec![[1, 2, 3]; 5]);
+        assert!(super::filled(0, 7u8).is_empty());
+    }
+
     #[test]
     fn coarse_grids_stay_closed_including_one_step_across_edge_patches() {
         let mesh = icosphere(1);
