@@ -92,8 +92,6 @@ pub(crate) struct RayPoint {
     pub(crate) multiple: bool,
 }
 
-/// The rays of `count` patches of `per` rays each, in blocks of consecutive patches (see
-/// [`ApatchSurface::tessellate`], pass 1).
 /// Patches per block of [`patch_blocks`]: `count / 64`, at least 16 and at most 1024 (dozens
 /// of tasks for every thread, each long enough to dwarf rayon's cost of one).
 fn block_size(count: usize) -> usize {
@@ -118,6 +116,8 @@ fn filled<T: Copy + Send + Sync>(n: usize, x: T) -> Vec<T> {
     v
 }
 
+/// The rays of `count` patches of `per` rays each, in blocks of consecutive patches (see
+/// [`ApatchSurface::tessellate`], pass 1).
 struct RayBlocks {
     blocks: Vec<Vec<RayPoint>>,
     /// Patches per block.

@@ -48,7 +48,6 @@
 #![warn(missing_docs)]
 
 mod apex;
-mod bvh;
 mod classify;
 mod crossing;
 mod edge_point;

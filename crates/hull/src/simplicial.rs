@@ -11,17 +11,6 @@ use algesurf_mesh::TriMesh;
 use glam::DVec3;
 use std::collections::HashMap;
 
-/// The connected component (an index) of every face of `mesh`.
-fn components_of(mesh: &TriMesh) -> Vec<u32> {
-    let mut c = vec![0u32; mesh.face_count()];
-    for (i, comp) in mesh.components().iter().enumerate() {
-        for &f in &comp.faces {
-            c[f as usize] = i as u32;
-        }
-    }
-    c
-}
-
 mod intersect;
 /// The mesh element a hull tetrahedron belongs to (ids of the possibly refined mesh).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -217,7 +206,7 @@ impl SimplicialHull {
         // its component and joins no two, so a face's component in any round is its input
         // face's (`face_map`), and the mesh's components are found once, not every round.
         let input_component: Vec<u32> = {
-            let comp = components_of(&state.mesh);
+            let comp = state.mesh.topology().face_components();
             let size = state
                 .face_map
                 .iter()
@@ -429,7 +418,7 @@ impl SimplicialHull {
 
     /// The connected component of every face.
     fn face_components(&self) -> Vec<u32> {
-        components_of(&self.mesh)
+        self.mesh.topology().face_components()
     }
 
     fn same_component(&self, component: &[u32], a: Element, b: Element) -> bool {

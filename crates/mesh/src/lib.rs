@@ -1,6 +1,7 @@
 //! Polygon and triangle meshes for algesurf: adjacency, validation and repair, vertex normals,
 //! Loop and modified Butterfly subdivision steps (whole mesh and local), and f64 spatial
-//! queries on a BVH.
+//! queries on a BVH ([`BoxBvh`], [`TriangleBvh`]) and overlapping pairs of boxes
+//! ([`morton::MortonBvh`]).
 //!
 //! ```
 //! use algesurf_mesh::{PolygonMesh, RepairOptions, TriMesh, NormalMethod, repair, validate, vertex_normals};
@@ -72,6 +73,7 @@ pub use subdivision::{
     butterfly_subdivide, loop_refine_edge, loop_subdivide, split_edge,
 };
 pub mod bvh;
+pub mod morton;
 pub mod primitives;
 mod self_intersection;
 pub mod self_join;

@@ -639,6 +639,44 @@ impl Topology {
         used as i64 - self.edges.len() as i64 + self.face_count() as i64
     }
 
+    /// For each face, the id of its component in [`Topology::components`] order (faces joined
+    /// across shared edges; components numbered in the order of their lowest face). A plain
+    /// search, without the orientation and the summary (genus,
+    /// boundary loops) `components` works out: a third of its time on the Stanford bunny.
+    ///
+    /// ```
+    /// use algesurf_mesh::Topology;
+    /// // Two triangles sharing an edge, and a third apart.
+    /// let t = Topology::from_triangles(7, &[[0, 1, 2], [2, 1, 3], [4, 5, 6]]).unwrap();
+    /// assert_eq!(t.face_components(), vec![0, 0, 1]);
+    /// ```
+    pub fn face_components(&self) -> Vec<u32> {
+        let nf = self.face_count();
+        let mut comp = vec![NONE; nf];
+        let mut count = 0u32;
+        let mut stack = Vec::new();
+        for s in 0..nf {
+            if comp[s] != NONE {
+                continue;
+            }
+            comp[s] = count;
+            stack.push(s as u32);
+            while let Some(f) = stack.pop() {
+                for c in self.face_corners(f as usize) {
+                    for &h in self.edge_half_edges(self.corner_edge[c as usize]) {
+                        let g = self.corner_face[h as usize];
+                        if comp[g as usize] == NONE {
+                            comp[g as usize] = count;
+                            stack.push(g);
+                        }
+                    }
+                }
+            }
+            count += 1;
+        }
+        comp
+    }
+
     /// Face components (faces sharing an edge are connected) with their Euler characteristic,
     /// boundary, manifoldness, orientability and genus. Unused vertices belong to no component.
     pub fn components(&self) -> Vec<Component> {
@@ -780,16 +818,5 @@ impl Topology {
                 }
             })
             .collect()
-    }
-
-    /// For each face, the id of its component in [`Topology::components`] order.
-    pub fn face_components(&self) -> Vec<u32> {
-        let mut out = vec![NONE; self.face_count()];
-        for (i, c) in self.components().iter().enumerate() {
-            for &f in &c.faces {
-                out[f as usize] = i as u32;
-            }
-        }
-        out
     }
 }

@@ -68,6 +68,46 @@ fn euler_and_genus() {
     assert!(s.signed_volume() > 0.0 && t.signed_volume() > 0.0);
 }
 
+/// `face_components` numbers the faces' components as `components` lists them: on a mesh of
+/// three pieces (a torus, a sphere with its faces interleaved in between, an open grid), in an
+/// order where a component's faces are not contiguous.
+#[test]
+fn face_components_agree_with_components() {
+    let parts = [torus(12, 8, 3.0, 1.0), icosphere(1), grid(3, 2)];
+    let (mut positions, mut tris) = (Vec::new(), Vec::new());
+    let mut per_part = Vec::new();
+    for m in &parts {
+        let base = positions.len() as u32;
+        positions.extend_from_slice(m.positions());
+        per_part.push(m.triangles().iter().map(move |t| t.map(|v| v + base)));
+    }
+    // Round-robin over the parts' faces.
+    let mut iters: Vec<_> = per_part.into_iter().collect();
+    loop {
+        let before = tris.len();
+        for it in &mut iters {
+            tris.extend(it.next());
+        }
+        if tris.len() == before {
+            break;
+        }
+    }
+    let mesh = TriMesh::new(positions, tris).unwrap();
+    let comp = mesh.topology().face_components();
+    let count = comp.iter().max().map_or(0, |&c| c as usize + 1);
+    let listed = mesh.components();
+    assert_eq!((count, listed.len()), (3, 3));
+    for (i, c) in listed.iter().enumerate() {
+        for &f in &c.faces {
+            assert_eq!(comp[f as usize], i as u32, "face {f}");
+        }
+    }
+    assert_eq!(
+        listed.iter().map(|c| c.faces.len()).sum::<usize>(),
+        comp.len()
+    );
+}
+
 #[test]
 fn open_grid_boundary() {
     let g = grid(4, 3);

@@ -3,8 +3,8 @@
 //! tetrahedron.
 
 use super::{Element, HullTetrahedron, Intersection, SimplicialHull};
-use crate::bvh::Bvh;
 use crate::overlap::{FacePlanes, common_diagonal, depth_until, tet_box};
+use algesurf_mesh::morton::MortonBvh;
 use glam::DVec3;
 use rayon::prelude::*;
 
@@ -79,7 +79,7 @@ impl SimplicialHull {
         // candidate pairs on the bunny) are copied into the tree's Morton order, so that the
         // pairs of neighbouring leaves read neighbouring memory. Each pair is tested in the
         // order of its indices, `depth_until(lower, higher)`, whichever way the walk meets it.
-        let bvh = Bvh::new(
+        let bvh = MortonBvh::new(
             ids.par_iter()
                 .map(|&id| tet_box(&self.element_tet(id).vertices))
                 .collect(),
@@ -168,7 +168,7 @@ impl SimplicialHull {
             indexed(k).map(move |(i, t)| (i, tet_box(&t.vertices), fresh(k), t))
         });
         let tol = self.options.overlap_tolerance;
-        let mut pairs = Bvh::marked_pairs(&marked, items, |(i, a), (j, b)| {
+        let mut pairs = MortonBvh::marked_pairs(&marked, items, |(i, a), (j, b)| {
             let (va, vb) = (&a.vertices, &b.vertices);
             let d = common_diagonal(&tet_box(va), &tet_box(vb));
             let depth = depth_until(va, &FacePlanes::of(va), vb, &FacePlanes::of(vb), d, tol);

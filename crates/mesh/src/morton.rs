@@ -1,14 +1,32 @@
-//! A small bounding-volume hierarchy over axis-aligned boxes, used to find candidate pairs of
-//! hull tetrahedra (never all pairs). Private: `algesurf-mesh` has no box-pair query.
+//! A linear bounding-volume hierarchy over axis-aligned boxes for finding the pairs that
+//! overlap (never all pairs): the simplicial hull's candidate pairs of tetrahedra
+//! (`algesurf-hull`) and a mesh's candidate pairs of crossing faces ([`crate::self_intersections`]).
+//! Built in one parallel sort and a parallel split pass; for queries of the closest point or a
+//! ray, whose trees are built once and walked millions of times, [`crate::BoxBvh`] (a
+//! surface-area-optimised tree) is the better tree.
+//!
+//! ```
+//! use algesurf_mesh::morton::MortonBvh;
+//! use glam::DVec3;
+//! let unit = |x: f64| (DVec3::splat(x), DVec3::splat(x + 1.0));
+//! let tree = MortonBvh::new(vec![unit(0.0), unit(0.5), unit(3.0)]);
+//! // Pairs by slot, mapped to box ids.
+//! let mut pairs = tree.slot_pairs(|a, b| {
+//!     let (i, j) = (tree.order()[a], tree.order()[b]);
+//!     Some((i.min(j), i.max(j)))
+//! });
+//! pairs.sort();
+//! assert_eq!(pairs, vec![(0, 1)]);
+//! ```
 
-use algesurf_mesh::self_join::{JoinTree, self_join};
+use crate::self_join::{JoinTree, self_join};
 use glam::DVec3;
 use rayon::prelude::*;
 
 const LEAF: usize = 4;
 
 /// Subtrees over more slots than this are built in parallel with their siblings
-/// ([`Bvh::build`]): 16 k slots are ~1 ms of serial build, well above rayon's cost of a
+/// ([`MortonBvh::build`]): 16 k slots are ~1 ms of serial build, well above rayon's cost of a
 /// join, and leave 16 parallel subtrees on the bunny's 270 k tetrahedra.
 const PARALLEL_SLOTS: usize = 1 << 14;
 
@@ -33,7 +51,7 @@ enum Kind {
 /// midpoints (octree cells), which for a surface's tetrahedra give boxes as tight as median
 /// splits do. Rebuilt every refinement round over 350 k tetrahedra (the bunny), the build cost
 /// 150 ms with median splits.
-pub(crate) struct Bvh {
+pub struct MortonBvh {
     /// The boxes in Morton order (`sorted[k]` is box `order[k]`), so that a leaf's boxes, and
     /// the leaves a walk meets together, lie next to each other in memory.
     sorted: Vec<(DVec3, DVec3)>,
@@ -62,14 +80,14 @@ fn spread(x: u64) -> u64 {
     x
 }
 
-impl Bvh {
+impl MortonBvh {
     /// Builds the tree over `boxes` (`(min, max)` corners).
-    pub(crate) fn new(boxes: Vec<(DVec3, DVec3)>) -> Bvh {
-        Bvh::with_parallel_slots(boxes, PARALLEL_SLOTS)
+    pub fn new(boxes: Vec<(DVec3, DVec3)>) -> MortonBvh {
+        MortonBvh::with_parallel_slots(boxes, PARALLEL_SLOTS)
     }
 
-    /// [`Bvh::new`] with subtrees over more than `parallel_slots` slots built in parallel.
-    fn with_parallel_slots(boxes: Vec<(DVec3, DVec3)>, parallel_slots: usize) -> Bvh {
+    /// [`MortonBvh::new`] with subtrees over more than `parallel_slots` slots built in parallel.
+    fn with_parallel_slots(boxes: Vec<(DVec3, DVec3)>, parallel_slots: usize) -> MortonBvh {
         let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
         for (a, b) in &boxes {
             let c = (*a + *b) * 0.5;
@@ -94,7 +112,7 @@ impl Bvh {
             .collect();
         // Ties broken by id: the tree, and every traversal order, is deterministic.
         keyed.par_sort_unstable();
-        let mut b = Bvh {
+        let mut b = MortonBvh {
             sorted: keyed.par_iter().map(|k| boxes[k.1 as usize]).collect(),
             order: keyed.iter().map(|k| k.1).collect(),
             codes: keyed.iter().map(|k| k.0).collect(),
@@ -182,13 +200,10 @@ impl Bvh {
     /// order of the pairs or within one; pairs where `f` gives `None` are dropped. For callers
     /// that keep their own data in Morton order.
     ///
-    /// A walk of the tree with itself ([`algesurf_mesh::self_join`]): every pair of boxes is
+    /// A walk of the tree with itself ([`crate::self_join`]): every pair of boxes is
     /// tested once (a query per box tests it twice and walks from the root each time). The
     /// first levels run in parallel.
-    pub(crate) fn slot_pairs<T: Send>(
-        &self,
-        f: impl Fn(usize, usize) -> Option<T> + Sync,
-    ) -> Vec<T> {
+    pub fn slot_pairs<T: Send>(&self, f: impl Fn(usize, usize) -> Option<T> + Sync) -> Vec<T> {
         if self.nodes.is_empty() {
             return Vec::new();
         }
@@ -202,13 +217,13 @@ impl Bvh {
         })
     }
 
-    /// Box ids in Morton order: slot `k` holds box `order()[k]`.
     /// The box in slot `k` (box `order()[k]`).
-    pub(crate) fn slot_box(&self, k: usize) -> &(DVec3, DVec3) {
+    pub fn slot_box(&self, k: usize) -> &(DVec3, DVec3) {
         &self.sorted[k]
     }
 
-    pub(crate) fn order(&self) -> &[u32] {
+    /// Box ids in Morton order: slot `k` holds box `order()[k]`.
+    pub fn order(&self) -> &[u32] {
         &self.order
     }
 
@@ -224,12 +239,12 @@ impl Bvh {
     /// boxes each round cost more than the whole query (Morton codes and a parallel sort of
     /// 270 k keys, against one descent of a tree of a few hundred boxes per box). A pair of
     /// two marked boxes is met from both sides and kept from its smaller id's side.
-    pub(crate) fn marked_pairs<P: Sync + Send, T: Send>(
+    pub fn marked_pairs<P: Sync + Send, T: Send>(
         marked: &[(u32, (DVec3, DVec3), P)],
         items: impl ParallelIterator<Item = (u32, (DVec3, DVec3), bool, P)>,
         f: impl Fn((u32, &P), (u32, &P)) -> Option<T> + Sync,
     ) -> Vec<T> {
-        let tree = Bvh::new(marked.iter().map(|m| m.1).collect());
+        let tree = MortonBvh::new(marked.iter().map(|m| m.1).collect());
         if tree.nodes.is_empty() {
             return Vec::new();
         }
@@ -284,7 +299,7 @@ impl Bvh {
 }
 
 /// The tree as [`self_join`] walks it: slots are positions in the Morton order.
-impl JoinTree for Bvh {
+impl JoinTree for MortonBvh {
     fn children(&self, n: usize) -> Option<(usize, usize)> {
         match self.nodes[n].kind {
             Kind::Leaf(..) => None,
@@ -313,6 +328,19 @@ impl JoinTree for Bvh {
 mod tests {
     use super::*;
 
+    /// A linear congruential generator (Knuth's MMIX constants), uniform in `[0, 1)`.
+    struct Lcg(u64);
+
+    impl Lcg {
+        fn next(&mut self) -> f64 {
+            self.0 = self
+                .0
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (self.0 >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
+
     #[test]
     fn morton_spread_puts_bit_k_at_bit_3k() {
         assert_eq!(spread(0b111), 0b1001001);
@@ -327,7 +355,7 @@ mod tests {
     /// none.
     #[test]
     fn parallel_build_is_the_serial_tree() {
-        let mut rng = crate::test_rng::Lcg(99);
+        let mut rng = Lcg(99);
         let mut next = || rng.next();
         let boxes: Vec<(DVec3, DVec3)> = (0..3000)
             .map(|_| {
@@ -335,8 +363,8 @@ mod tests {
                 (lo, lo + DVec3::new(next(), next(), next()))
             })
             .collect();
-        let serial = Bvh::with_parallel_slots(boxes.clone(), usize::MAX);
-        let parallel = Bvh::with_parallel_slots(boxes, 8);
+        let serial = MortonBvh::with_parallel_slots(boxes.clone(), usize::MAX);
+        let parallel = MortonBvh::with_parallel_slots(boxes, 8);
         assert!(serial.nodes.len() > 1000);
         assert_eq!(serial.nodes, parallel.nodes);
         assert_eq!(serial.order, parallel.order);
@@ -344,7 +372,7 @@ mod tests {
 
     #[test]
     fn self_join_finds_every_intersecting_pair_once() {
-        let mut rng = crate::test_rng::Lcg(12345);
+        let mut rng = Lcg(12345);
         let mut next = || rng.next();
         let boxes: Vec<(DVec3, DVec3)> = (0..700)
             .map(|_| {
@@ -353,7 +381,7 @@ mod tests {
             })
             .collect();
         let marked: Vec<bool> = (0..boxes.len()).map(|i| i % 3 == 0).collect();
-        let bvh = Bvh::new(boxes.clone());
+        let bvh = MortonBvh::new(boxes.clone());
         for marks in [None, Some(&marked[..])] {
             let mut found = match marks {
                 None => bvh.slot_pairs(|a, b| {
@@ -368,7 +396,7 @@ mod tests {
                     let items = (0..boxes.len())
                         .into_par_iter()
                         .map(|i| (i as u32, boxes[i], m[i], ()));
-                    Bvh::marked_pairs(&listed, items, |(i, _), (j, _)| Some((i, j)))
+                    MortonBvh::marked_pairs(&listed, items, |(i, _), (j, _)| Some((i, j)))
                 }
             };
             found.sort_unstable();
