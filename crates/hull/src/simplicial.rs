@@ -254,8 +254,10 @@ impl SimplicialHull {
                 }
                 (Err(_), Some(other)) => return Err(other),
             };
+            // The mesh moves into the round's hull and back out before the splits (a clone
+            // per round was 10 MB of copying on the bunny).
             let hull = SimplicialHull {
-                mesh: state.mesh.clone(),
+                mesh: std::mem::replace(&mut state.mesh, TriMesh::new(Vec::new(), Vec::new())?),
                 normals: Vec::new(),
                 faces,
                 edges,
@@ -333,8 +335,9 @@ impl SimplicialHull {
             }
             let corners: Vec<[u32; 3]> = targets
                 .iter()
-                .map(|&f| state.mesh.triangles()[f as usize])
+                .map(|&f| hull.mesh.triangles()[f as usize])
                 .collect();
+            state.mesh = hull.mesh;
             for (&f, &c) in targets.iter().zip(&corners) {
                 state.bisect_face(f, c, round)?;
             }
