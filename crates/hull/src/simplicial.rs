@@ -202,6 +202,8 @@ impl SimplicialHull {
         let mut pending: Option<HullError> = None;
         // The previous round's faces and edges, reused where they survived.
         let mut previous: Option<PreviousRound> = None;
+        // The first round's tetrahedra, for later rounds to check their new ones against.
+        let mut index: Option<intersect::TetIndex> = None;
         // The connected component of every input face: bisection keeps a face's children in
         // its component and joins no two, so a face's component in any round is its input
         // face's (`face_map`), and the mesh's components are found once, not every round.
@@ -280,10 +282,15 @@ impl SimplicialHull {
                     .map(|&g| input_component[g as usize])
                     .collect();
                 // Survivors were checked against each other in the previous round.
-                let found = if reusing {
-                    hull.fresh_intersections(&fresh_faces, &fresh_edges)
-                } else {
-                    hull.intersections()
+                let found = match (reusing, index.as_mut()) {
+                    (true, Some(index)) => {
+                        hull.fresh_intersections(index, &fresh_faces, &fresh_edges)
+                    }
+                    _ => {
+                        let (found, built) = hull.indexed_intersections();
+                        index = Some(built);
+                        found
+                    }
                 };
                 found
                     .into_iter()

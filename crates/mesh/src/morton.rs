@@ -227,53 +227,19 @@ impl MortonBvh {
         &self.order
     }
 
-    /// Every unordered pair of intersecting boxes, with ids `i < j`, of which at least one is
-    /// among `marked`, mapped through `f` (lower id first; pairs where it gives `None` are
-    /// dropped), in no particular order. `items` are all the boxes, marked ones included, each
-    /// as `(id, box, marked, payload)`; `marked` lists the marked ones as `(id, box, payload)`.
-    /// The payload carries what `f` needs of an item, so the caller need not keep every item in
-    /// memory at once.
-    ///
-    /// For the refinement rounds, where a few hundred of 270 k tetrahedra are new: a tree over
-    /// the marked boxes only, queried with every box in parallel. Building a tree over all
-    /// boxes each round cost more than the whole query (Morton codes and a parallel sort of
-    /// 270 k keys, against one descent of a tree of a few hundred boxes per box). A pair of
-    /// two marked boxes is met from both sides and kept from its smaller id's side.
-    pub fn marked_pairs<P: Sync + Send, T: Send>(
-        marked: &[(u32, (DVec3, DVec3), P)],
-        items: impl ParallelIterator<Item = (u32, (DVec3, DVec3), bool, P)>,
-        f: impl Fn((u32, &P), (u32, &P)) -> Option<T> + Sync,
-    ) -> Vec<T> {
-        let tree = MortonBvh::new(marked.iter().map(|m| m.1).collect());
-        if tree.nodes.is_empty() {
-            return Vec::new();
+    /// Calls `hit` with the slot of every box of the tree that intersects `b` (closed boxes),
+    /// in no particular order; `stack` is scratch space, kept by the caller across queries.
+    /// For a few boxes against a tree built once (the hull's refinement rounds query the new
+    /// tetrahedra against the first round's tree).
+    pub fn overlapping_slots(
+        &self,
+        b: &(DVec3, DVec3),
+        stack: &mut Vec<usize>,
+        mut hit: impl FnMut(usize),
+    ) {
+        if self.nodes.is_empty() {
+            return;
         }
-        items
-            .map_init(Vec::new, |stack, (i, b, is_marked, p)| {
-                let mut out = Vec::new();
-                tree.query(&b, stack, |k| {
-                    let (j, _, q) = &marked[k as usize];
-                    let j = *j;
-                    if j != i && (!is_marked || i < j) {
-                        let (lo, hi) = if i < j {
-                            ((i, &p), (j, q))
-                        } else {
-                            ((j, q), (i, &p))
-                        };
-                        if let Some(x) = f(lo, hi) {
-                            out.push(x);
-                        }
-                    }
-                });
-                out
-            })
-            .flatten_iter()
-            .collect()
-    }
-
-    /// Calls `hit` with every box of the tree that intersects `b` (closed boxes); `stack` is
-    /// scratch space, kept by the caller across queries.
-    fn query(&self, b: &(DVec3, DVec3), stack: &mut Vec<usize>, mut hit: impl FnMut(u32)) {
         stack.clear();
         stack.push(0);
         while let Some(n) = stack.pop() {
@@ -283,9 +249,9 @@ impl MortonBvh {
             }
             match node.kind {
                 Kind::Leaf(s, e) => {
-                    for (&k, bk) in self.order[s..e].iter().zip(&self.sorted[s..e]) {
+                    for (slot, bk) in self.sorted[s..e].iter().enumerate() {
                         if overlaps(b, bk.0, bk.1) {
-                            hit(k);
+                            hit(s + slot);
                         }
                     }
                 }
@@ -388,15 +354,20 @@ mod tests {
                     let (i, j) = (bvh.order()[a], bvh.order()[b]);
                     Some((i.min(j), i.max(j)))
                 }),
+                // Each marked box queried: its pairs, each once (a pair of two marked boxes
+                // from its smaller id's side).
                 Some(m) => {
-                    let listed: Vec<(u32, (DVec3, DVec3), ())> = (0..boxes.len())
-                        .filter(|&i| m[i])
-                        .map(|i| (i as u32, boxes[i], ()))
-                        .collect();
-                    let items = (0..boxes.len())
-                        .into_par_iter()
-                        .map(|i| (i as u32, boxes[i], m[i], ()));
-                    MortonBvh::marked_pairs(&listed, items, |(i, _), (j, _)| Some((i, j)))
+                    let mut stack = Vec::new();
+                    let mut out = Vec::new();
+                    for i in (0..boxes.len()).filter(|&i| m[i]) {
+                        bvh.overlapping_slots(&boxes[i], &mut stack, |slot| {
+                            let j = bvh.order()[slot] as usize;
+                            if j != i && (!m[j] || i < j) {
+                                out.push((i.min(j) as u32, i.max(j) as u32));
+                            }
+                        });
+                    }
+                    out
                 }
             };
             found.sort_unstable();

@@ -3,6 +3,7 @@
 //! tetrahedron.
 
 use super::{Element, HullTetrahedron, Intersection, SimplicialHull};
+use crate::Side;
 use crate::overlap::{FacePlanes, common_diagonal, depth_until, tet_box};
 use algesurf_mesh::morton::MortonBvh;
 use glam::DVec3;
@@ -66,6 +67,13 @@ impl SimplicialHull {
     /// over the tetrahedra's boxes; each candidate is decided by [`crate::overlap_depth`].
     /// Empty for a valid hull.
     pub fn intersections(&self) -> Vec<Intersection> {
+        self.indexed_intersections().0
+    }
+
+    /// [`SimplicialHull::intersections`], with the tree and the tetrahedra it was found with,
+    /// for the refinement rounds to check their new tetrahedra against
+    /// ([`SimplicialHull::fresh_intersections`]).
+    pub(crate) fn indexed_intersections(&self) -> (Vec<Intersection>, TetIndex) {
         let tol = self.options.overlap_tolerance;
         // Each tetrahedron named by its element and its place there, in `tetrahedra()` order
         // (8 bytes each instead of the 112 of a listed tetrahedron: the list is 30 MB on the
@@ -101,18 +109,45 @@ impl SimplicialHull {
         // Sorting makes the list (and the refinement driven by it) independent of the thread
         // count.
         pairs.sort_unstable_by_key(|&(a, b, _)| (a, b));
-        pairs
+        let hits = pairs
             .into_iter()
             .map(|(a, b, depth)| Intersection {
                 first: self.element_tet(ids[a as usize]),
                 second: self.element_tet(ids[b as usize]),
                 depth,
             })
-            .collect()
+            .collect();
+        let keys = order
+            .par_iter()
+            .map(|&i| {
+                let (k, s) = ids[i as usize];
+                self.tet_key(k as usize, self.element_tet((k, s)).side)
+            })
+            .collect();
+        (
+            hits,
+            TetIndex {
+                tree: bvh,
+                keys,
+                verts,
+                later: Vec::new(),
+            },
+        )
+    }
+
+    /// The round-independent name of element `k`'s tetrahedron on `side`.
+    fn tet_key(&self, k: usize, side: Side) -> TetKey {
+        let nf = self.faces.len();
+        if k < nf {
+            TetKey::Face(k as u32, side)
+        } else {
+            TetKey::Edge(self.edges[k - nf].vertices, side)
+        }
     }
 
     /// The pairs of [`SimplicialHull::intersections`] that involve a tetrahedron of a face or
-    /// edge marked fresh, in the same order, without listing every tetrahedron.
+    /// edge marked fresh, in the same order, given the `index` of the first round's check
+    /// (to which this adds the fresh tetrahedra).
     ///
     /// Refinement rounds check only the new tetrahedra: those of an element that survived the
     /// round (`hull::PreviousRound`: a face with the same id and corners, an edge with two such
@@ -121,12 +156,16 @@ impl SimplicialHull {
     /// changing their corners (overlaps left alone as the input's are reported by
     /// [`SimplicialHull::distant_intersections`], which checks every pair).
     ///
-    /// A tree over the fresh tetrahedra (a few hundred of the bunny's 270 k) is queried with
-    /// every tetrahedron's box, each made from its element on the spot, so the 30 MB list of
-    /// [`SimplicialHull::tetrahedra`] is not built each round; indices are counted per element.
-    /// The face planes are computed per pair, as most tetrahedra take part in none.
+    /// Each fresh tetrahedron (a few hundred of the bunny's 270 k) is queried against the
+    /// first round's tree and the tetrahedra later rounds made. A tetrahedron found there
+    /// counts when its key (a face by id, an edge by its vertices, and the side) names a
+    /// tetrahedron of this hull with the same four vertices: then it is that tetrahedron.
+    /// Every tetrahedron of this hull is there, as it was made either by the first round or,
+    /// fresh, by a later one. So a round costs the count of every element's tetrahedra (for
+    /// their indices) and the fresh ones' queries, not a pass over every tetrahedron's box.
     pub(crate) fn fresh_intersections(
         &self,
+        index: &mut TetIndex,
         fresh_faces: &[bool],
         fresh_edges: &[bool],
     ) -> Vec<Intersection> {
@@ -153,38 +192,106 @@ impl SimplicialHull {
             })
             .collect();
         let first = &first;
-        let indexed = |k: usize| {
-            let at = first[k];
+        // This hull's tetrahedron named by `key`, with its index.
+        let topology = self.mesh.topology();
+        let resolve = |key: TetKey| -> Option<(u32, HullTetrahedron)> {
+            let (k, side) = match key {
+                TetKey::Face(f, side) => ((f as usize) < nf).then_some((f as usize, side))?,
+                TetKey::Edge([a, b], side) => (nf + topology.find_edge(a, b)? as usize, side),
+            };
             self.element_tets(k)
                 .enumerate()
-                .map(move |(s, t)| (at + s as u32, t))
+                .find(|(_, t)| t.side == side)
+                .map(|(s, t)| (first[k] + s as u32, t))
         };
-        let marked: Vec<(u32, (DVec3, DVec3), HullTetrahedron)> = (0..n)
+        let new: Vec<(u32, HullTetrahedron)> = (0..n)
             .filter(|&k| fresh(k))
-            .flat_map(indexed)
-            .map(|(i, t)| (i, tet_box(&t.vertices), t))
+            .flat_map(|k| {
+                self.element_tets(k)
+                    .enumerate()
+                    .map(move |(s, t)| (first[k] + s as u32, t))
+            })
             .collect();
-        let items = (0..n).into_par_iter().flat_map_iter(|k| {
-            indexed(k).map(move |(i, t)| (i, tet_box(&t.vertices), fresh(k), t))
-        });
+        index.later.extend(new.iter().map(|&(_, t)| {
+            let k = match t.element {
+                Element::Face(f) => f as usize,
+                Element::Edge(e) => nf + e as usize,
+            };
+            (self.tet_key(k, t.side), t.vertices, tet_box(&t.vertices))
+        }));
         let tol = self.options.overlap_tolerance;
-        let mut pairs = MortonBvh::marked_pairs(&marked, items, |(i, a), (j, b)| {
-            let (va, vb) = (&a.vertices, &b.vertices);
-            let d = common_diagonal(&tet_box(va), &tet_box(vb));
-            let depth = depth_until(va, &FacePlanes::of(va), vb, &FacePlanes::of(vb), d, tol);
-            (depth > tol).then_some((
-                i,
-                j,
-                Intersection {
-                    first: *a,
-                    second: *b,
-                    depth,
-                },
-            ))
-        });
+        let index = &*index;
+        let mut pairs: Vec<(u32, u32, Intersection)> = new
+            .par_iter()
+            .map_init(Vec::new, |stack, &(i, t)| {
+                let b = tet_box(&t.vertices);
+                let mut candidates: Vec<(TetKey, &[DVec3; 4])> = Vec::new();
+                index.tree.overlapping_slots(&b, stack, |slot| {
+                    candidates.push((index.keys[slot], &index.verts[slot]));
+                });
+                candidates.extend(
+                    index
+                        .later
+                        .iter()
+                        .filter(|(_, _, lb)| lb.0.cmple(b.1).all() && b.0.cmple(lb.1).all())
+                        .map(|(key, v, _)| (*key, v)),
+                );
+                let mut out = Vec::new();
+                for (key, v) in candidates {
+                    let Some((j, u)) = resolve(key).filter(|(j, u)| *j != i && u.vertices == *v)
+                    else {
+                        continue;
+                    };
+                    let ((i, a), (j, b)) = if i < j {
+                        ((i, t), (j, u))
+                    } else {
+                        ((j, u), (i, t))
+                    };
+                    let (va, vb) = (&a.vertices, &b.vertices);
+                    let d = common_diagonal(&tet_box(va), &tet_box(vb));
+                    let depth =
+                        depth_until(va, &FacePlanes::of(va), vb, &FacePlanes::of(vb), d, tol);
+                    if depth > tol {
+                        out.push((
+                            i,
+                            j,
+                            Intersection {
+                                first: a,
+                                second: b,
+                                depth,
+                            },
+                        ));
+                    }
+                }
+                out
+            })
+            .flatten_iter()
+            .collect();
+        // A pair of two fresh tetrahedra is met from both; a tetrahedron can be listed twice
+        // (a later round remade it as it was).
         pairs.sort_unstable_by_key(|&(i, j, _)| (i, j));
+        pairs.dedup_by_key(|&mut (i, j, _)| (i, j));
         pairs.into_iter().map(|(_, _, hit)| hit).collect()
     }
+}
+
+/// A hull tetrahedron named independently of the refinement round: a face by its id (which a
+/// face keeps while it is not split), an edge by its vertices (edge ids are renumbered every
+/// round), and the side.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum TetKey {
+    Face(u32, Side),
+    Edge([u32; 2], Side),
+}
+
+/// The first round's tree over every tetrahedron's box with each slot's key and vertices, and
+/// the tetrahedra later rounds made (key, vertices, box), for
+/// [`SimplicialHull::fresh_intersections`].
+pub(crate) struct TetIndex {
+    tree: MortonBvh,
+    keys: Vec<TetKey>,
+    verts: Vec<[DVec3; 4]>,
+    later: Vec<(TetKey, [DVec3; 4], (DVec3, DVec3))>,
 }
 
 #[cfg(test)]
@@ -228,7 +335,8 @@ mod tests {
             ..HullOptions::default()
         };
         let hull = SimplicialHull::new(&p, &t, &normals, &options).unwrap();
-        let all = hull.intersections();
+        let (all, mut index) = hull.indexed_intersections();
+        assert_eq!(all, hull.intersections());
         assert!(all.len() > 3, "the test needs overlaps: {}", all.len());
         let (nf, ne) = (hull.faces().len(), hull.edges().len());
         for (faces, edges) in [
@@ -248,7 +356,9 @@ mod tests {
                 .filter(|h| marked(h.first.element) || marked(h.second.element))
                 .copied()
                 .collect();
-            assert_eq!(hull.fresh_intersections(&faces, &edges), want);
+            // The index gains the marked tetrahedra each time, as a round's would: the same
+            // tetrahedra again, which must not give a pair twice.
+            assert_eq!(hull.fresh_intersections(&mut index, &faces, &edges), want);
         }
     }
 }
