@@ -187,22 +187,26 @@ impl PreviousRound {
         self.faces.get(f).is_some_and(|pf| pf.vertices == *t)
     }
 
-    /// The previous round's edge with the vertices and faces of `edge`, when its faces
-    /// survived (`fresh_face` false for both). Reads the previous round's edge ids of the
-    /// faces, so it must run before the faces are updated.
-    fn edge(&self, edge: &HullEdge, fresh_face: &[bool]) -> Option<&HullEdge> {
-        let face_l = edge.face_l?;
-        if fresh_face[edge.face_k as usize] || fresh_face[face_l as usize] {
+    /// The previous round's edge with vertices `[i, j]` between faces `face_k` and `face_l`,
+    /// when both faces survived (`fresh_face` false). Reads the previous round's edge ids of
+    /// the faces, so it must run before the faces are updated.
+    fn edge(
+        &self,
+        vertices: [u32; 2],
+        face_k: u32,
+        face_l: Option<u32>,
+        fresh_face: &[bool],
+    ) -> Option<&HullEdge> {
+        let l = face_l?;
+        if fresh_face[face_k as usize] || fresh_face[l as usize] {
             return None;
         }
         // A surviving face's edge ids are the previous round's: one of its three is this edge.
-        self.faces[edge.face_k as usize]
+        self.faces[face_k as usize]
             .edges
             .iter()
             .map(|&e| &self.edges[e as usize])
-            .find(|pe| {
-                pe.vertices == edge.vertices && pe.face_k == edge.face_k && pe.face_l == edge.face_l
-            })
+            .find(|pe| pe.vertices == vertices && pe.face_k == face_k && pe.face_l == face_l)
     }
 }
 
@@ -228,7 +232,18 @@ pub(crate) fn build(
     let p = |v: u32| pos[v as usize];
     let n = |v: u32| normals[v as usize];
 
+    // The faces that did not survive the previous round (all of them without one).
+    let fresh_faces: Vec<bool> = match &prev {
+        None => vec![true; tris.len()],
+        Some(pr) => tris
+            .par_iter()
+            .enumerate()
+            .map(|(f, t)| !pr.survived(f, t))
+            .collect(),
+    };
     // Edges: orientation, faces, classification; in parallel, the first error in edge order.
+    // An edge whose two faces survived the previous round is that round's edge, tetrahedra
+    // and all (one copy instead of a classification and a second pass for the tetrahedra).
     let mut edges: Vec<HullEdge> = collect_first_error(
         topo.edge_count(),
         |e| {
@@ -256,6 +271,12 @@ pub(crate) fn build(
             } else {
                 (None, None)
             };
+            if let Some(pe) = prev
+                .as_ref()
+                .and_then(|pr| pr.edge([i, j], face_k, face_l, &fresh_faces))
+            {
+                return Ok(pe.clone());
+            }
             Ok(HullEdge {
                 vertices: [i, j],
                 convexity: classify_edge(p(i), p(j), n(i), n(j), opts.zero_tolerance),
@@ -288,30 +309,18 @@ pub(crate) fn build(
         let first = topo.face_corners(f).start;
         std::array::from_fn(|c| topo.corner_edge(first + c as u32))
     };
-    // The faces that did not survive the previous round (all of them without one).
-    let fresh_faces: Vec<bool> = match &prev {
-        None => vec![true; tris.len()],
-        Some(pr) => tris
+    // Which edges were the previous round's (read now: the lookup reads the faces' previous
+    // edge ids, which are updated below).
+    let reused_edge: Vec<bool> = match &prev {
+        None => vec![false; edges.len()],
+        Some(pr) => edges
             .par_iter()
-            .enumerate()
-            .map(|(f, t)| !pr.survived(f, t))
+            .map(|e| {
+                pr.edge(e.vertices, e.face_k, e.face_l, &fresh_faces)
+                    .is_some()
+            })
             .collect(),
     };
-    // The edge tetrahedra of the edges whose faces both survived are the previous round's
-    // (taken now: the lookup reads the faces' previous edge ids, which are updated below).
-    let mut reused_edge = vec![false; edges.len()];
-    if let Some(pr) = &prev {
-        edges
-            .par_iter_mut()
-            .zip(reused_edge.par_iter_mut())
-            .for_each(|(edge, reused)| {
-                if let Some(pe) = pr.edge(edge, &fresh_faces) {
-                    edge.positive = pe.positive;
-                    edge.negative = pe.negative;
-                    *reused = true;
-                }
-            });
-    }
     let make_face = |f: usize| -> Result<HullFace, HullError> {
         let t = &tris[f];
         let fe = face_edges(f);
