@@ -77,5 +77,7 @@ pub mod morton;
 pub mod primitives;
 mod self_intersection;
 pub mod self_join;
+#[cfg(test)]
+mod test_rng;
 pub use bvh::{BoxBvh, ClosestPoint, RayHit, TriangleBvh};
 pub use self_intersection::{SELF_INTERSECTION_TOLERANCE, self_intersections};

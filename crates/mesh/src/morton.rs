@@ -293,19 +293,7 @@ impl JoinTree for MortonBvh {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// A linear congruential generator (Knuth's MMIX constants), uniform in `[0, 1)`.
-    struct Lcg(u64);
-
-    impl Lcg {
-        fn next(&mut self) -> f64 {
-            self.0 = self
-                .0
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (self.0 >> 11) as f64 / (1u64 << 53) as f64
-        }
-    }
+    use crate::test_rng::Lcg;
 
     #[test]
     fn morton_spread_puts_bit_k_at_bit_3k() {

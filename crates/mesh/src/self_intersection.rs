@@ -120,13 +120,8 @@ mod tests {
     #[test]
     fn the_same_crossings_as_every_pair() {
         let torus = shapes::torus(20, 10, 1.0, 0.45);
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = || {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        let mut rng = crate::test_rng::Lcg(0x9e37_79b9_7f4a_7c15);
+        let mut next = || rng.next() - 0.5;
         let p: Vec<DVec3> = torus
             .positions()
             .iter()
