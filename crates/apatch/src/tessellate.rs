@@ -273,12 +273,13 @@ impl ApatchSurface {
         // patch (174 k on the bunny: building those lists on one thread was a fifth of the
         // stage). The outputs are first written in parallel ([`filled`]).
         let n2 = n * n;
-        let edge_blocks: Vec<(Vec<[u32; 3]>, Vec<u32>)> = patch_blocks(ne)
-            .into_par_iter()
+        let edge_ranges = patch_blocks(ne);
+        let edge_blocks: Vec<(Vec<[u32; 3]>, Vec<u32>)> = edge_ranges
+            .par_iter()
             .map(|edges| {
                 let mut tris = Vec::with_capacity(edges.len() * 2 * n * m);
                 let mut counts = Vec::with_capacity(edges.len());
-                for e in edges {
+                for e in edges.clone() {
                     let before = tris.len();
                     self.edge_triangles(e, n, m, &edges_of, &num, &mut tris);
                     counts.push((tris.len() - before) as u32);
@@ -296,14 +297,15 @@ impl ApatchSurface {
         let mut triangles = filled(tri_count, [0u32; 3]);
         let mut triangle_patch = filled(tri_count, 0u32);
         let mut triangle_kind = filled(tri_count, PatchKind::Edge);
-        let edge_starts = patch_blocks(ne).into_iter().map(|b| b.start);
+        // Each block's first patch, and for a block of edges its index in `edge_blocks`.
         let block_patches: Vec<(usize, Option<usize>)> = face_blocks
             .iter()
             .map(|b| (b.start, None))
             .chain(
-                edge_starts
+                edge_ranges
+                    .iter()
                     .enumerate()
-                    .map(|(k, start)| (nf + start, Some(k))),
+                    .map(|(k, b)| (nf + b.start, Some(k))),
             )
             .collect();
         split_by_lengths(&mut triangles, &lengths)

@@ -1,5 +1,6 @@
 //! Faces of a mesh that pass through each other.
 
+use crate::Aabb;
 use crate::TriMesh;
 use crate::morton::MortonBvh;
 use crate::primitives::{longest_edge_length, triangle_overlap_depth};
@@ -52,8 +53,8 @@ pub fn self_intersections(mesh: &TriMesh) -> Vec<[u32; 2]> {
     let boxes: Vec<(DVec3, DVec3)> = (0..tris.len())
         .into_par_iter()
         .map(|f| {
-            let [a, b, c] = mesh.triangle_points(f);
-            (a.min(b).min(c), a.max(b).max(c))
+            let b = Aabb::from_points(&mesh.triangle_points(f));
+            (b.min, b.max)
         })
         .collect();
     let tree = MortonBvh::new(boxes);

@@ -67,13 +67,35 @@ impl SimplicialHull {
     /// over the tetrahedra's boxes; each candidate is decided by [`crate::overlap_depth`].
     /// Empty for a valid hull.
     pub fn intersections(&self) -> Vec<Intersection> {
-        self.indexed_intersections().0
+        self.check_every_pair().hits
     }
 
     /// [`SimplicialHull::intersections`], with the tree and the tetrahedra it was found with,
     /// for the refinement rounds to check their new tetrahedra against
     /// ([`SimplicialHull::fresh_intersections`]).
     pub(crate) fn indexed_intersections(&self) -> (Vec<Intersection>, TetIndex) {
+        let checked = self.check_every_pair();
+        let order = checked.tree.order();
+        let keys = order
+            .par_iter()
+            .map(|&i| {
+                let (k, s) = checked.ids[i as usize];
+                self.tet_key(k as usize, self.element_tet((k, s)).side)
+            })
+            .collect();
+        (
+            checked.hits,
+            TetIndex {
+                tree: checked.tree,
+                keys,
+                verts: checked.verts,
+                later: Vec::new(),
+            },
+        )
+    }
+
+    /// The work of [`SimplicialHull::intersections`], with what it was done on.
+    fn check_every_pair(&self) -> EveryPair {
         let tol = self.options.overlap_tolerance;
         // Each tetrahedron named by its element and its place there, in `tetrahedra()` order
         // (8 bytes each instead of the 112 of a listed tetrahedron: the list is 30 MB on the
@@ -117,22 +139,12 @@ impl SimplicialHull {
                 depth,
             })
             .collect();
-        let keys = order
-            .par_iter()
-            .map(|&i| {
-                let (k, s) = ids[i as usize];
-                self.tet_key(k as usize, self.element_tet((k, s)).side)
-            })
-            .collect();
-        (
+        EveryPair {
             hits,
-            TetIndex {
-                tree: bvh,
-                keys,
-                verts,
-                later: Vec::new(),
-            },
-        )
+            tree: bvh,
+            ids,
+            verts,
+        }
     }
 
     /// The round-independent name of element `k`'s tetrahedron on `side`.
@@ -273,6 +285,16 @@ impl SimplicialHull {
         pairs.dedup_by_key(|&mut (i, j, _)| (i, j));
         pairs.into_iter().map(|(_, _, hit)| hit).collect()
     }
+}
+
+/// What [`SimplicialHull::intersections`] found and what it worked on: the tree over every
+/// tetrahedron's box, each tetrahedron as (element, place in the element) in `tetrahedra()`
+/// order, and their vertices in the tree's slot order.
+struct EveryPair {
+    hits: Vec<Intersection>,
+    tree: MortonBvh,
+    ids: Vec<(u32, u8)>,
+    verts: Vec<[DVec3; 4]>,
 }
 
 /// A hull tetrahedron named independently of the refinement round: a face by its id (which a
