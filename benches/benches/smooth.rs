@@ -83,15 +83,21 @@ fn corpus_mesh(bench: &str, name: &str) -> Option<(TriMesh, Vec<DVec3>)> {
     Some((m, n))
 }
 
+/// [`corpus_mesh`] and its surface with default options.
+fn corpus_surface(bench: &str, name: &str) -> Option<(TriMesh, ApatchSurface)> {
+    let (m, n) = corpus_mesh(bench, name)?;
+    let surface = ApatchSurface::new(&m, &n, &SurfaceOptions::default()).expect("surface");
+    Some((m, surface))
+}
+
 /// `tessellate(8, 8)` of a real mesh, the CLI's `smooth --resolution 8` stage: many more points
 /// than fit in cache, split faces and edge patches in the proportions of scanned models. Skipped
 /// (with a note) when `ALGESURF_CORPUS` is not set.
 #[divan::bench(args = CORPUS, sample_count = 10, sample_size = 1)]
 fn tessellation_corpus(bencher: Bencher, name: &str) {
-    let Some((m, n)) = corpus_mesh("tessellation_corpus", name) else {
+    let Some((_, surface)) = corpus_surface("tessellation_corpus", name) else {
         return;
     };
-    let surface = ApatchSurface::new(&m, &n, &SurfaceOptions::default()).expect("surface");
     bench_tessellate_8x8(bencher, &surface);
 }
 
@@ -101,10 +107,9 @@ fn tessellation_corpus(bencher: Bencher, name: &str) {
 /// overlaps (4 on the bunny). Counted in input faces. Skipped without `ALGESURF_CORPUS`.
 #[divan::bench(sample_count = 10, sample_size = 1)]
 fn hull_bunny(bencher: Bencher) {
-    let Some((m, n)) = corpus_mesh("hull_bunny", "stanford-bunny") else {
+    let Some((m, surface)) = corpus_surface("hull_bunny", "stanford-bunny") else {
         return;
     };
-    let surface = ApatchSurface::new(&m, &n, &SurfaceOptions::default()).expect("surface");
     let hull = surface.hull();
     let normals = hull.normals()[..hull.input_vertex_count()].to_vec();
     let options = hull.options().clone();
@@ -120,10 +125,9 @@ fn hull_bunny(bencher: Bencher) {
 /// `ALGESURF_CORPUS`.
 #[divan::bench(sample_count = 10, sample_size = 1)]
 fn hull_intersections_bunny(bencher: Bencher) {
-    let Some((m, n)) = corpus_mesh("hull_intersections_bunny", "stanford-bunny") else {
+    let Some((_, surface)) = corpus_surface("hull_intersections_bunny", "stanford-bunny") else {
         return;
     };
-    let surface = ApatchSurface::new(&m, &n, &SurfaceOptions::default()).expect("surface");
     let hull = surface.hull();
     bencher
         .counter(ItemsCount::new(hull.tetrahedra().len()))
