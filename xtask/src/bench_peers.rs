@@ -6,7 +6,7 @@
 //!   --across M --report target/bench-smooth/report.json`; the time is the report's
 //!   `construction` (`ApatchSurface::new`: hull + function) plus `tessellation`. `N` and
 //!   `M ≤ N` are chosen so that the output has the fewest triangles ≥ [`TRIANGLES`] (estimated from the face and edge counts, then checked against
-//!   the report and raised if short).
+//!   the report and raised if short). Best of [`REPEATS`] runs, each its own process.
 //! * libigl: `igl.loop(V, F, k)` in Python (the `libigl` wheel), `k` the least number of
 //!   levels giving at least [`TRIANGLES`] triangles (2 for the bunny: 1.11 M), best of
 //!   [`REPEATS`] runs after one warm-up. Installed on first use into `target/bench-venv` by
@@ -22,7 +22,7 @@ use crate::Result;
 
 /// Output size both sides must reach (libigl's 2 Loop levels of the bunny: 1,111,216).
 pub const TRIANGLES: u64 = 1_100_000;
-/// libigl runs timed (after one warm-up); the best is reported.
+/// Runs timed on each side (libigl's after one warm-up); the best is reported.
 pub const REPEATS: usize = 3;
 
 const LIBIGL: &str = "libigl==2.6.3";
@@ -215,15 +215,35 @@ pub fn smooth(root: &Path, args: &[String]) -> Result<()> {
             }
             report = algesurf_run(root, &mesh, n, m)?;
         }
+        // Best of REPEATS runs, as libigl's side: the run that found (n, m) and REPEATS − 1
+        // more (one process each, so every run pays its own page faults; libigl's calls run
+        // in one warmed-up Python process).
+        let total = |r: &serde_json::Value| -> Result<f64> {
+            Ok(stage(r, "construction")? + stage(r, "tessellation")?)
+        };
+        let mut best = total(&report)?;
+        let mut totals = vec![best];
+        for _ in 1..REPEATS {
+            let again = algesurf_run(root, &mesh, n, m)?;
+            let t = total(&again)?;
+            totals.push(t);
+            if t < best {
+                best = t;
+                report = again;
+            }
+        }
         let construction = stage(&report, "construction")?;
         let tessellation = stage(&report, "tessellation")?;
         let tris = report["output_mesh"]["triangles"].as_u64().unwrap_or(0);
         let points = report["output_mesh"]["vertices"].as_u64().unwrap_or(0);
         let faces_in = report["input_mesh"]["faces"].as_u64().unwrap_or(0);
         println!("mesh: {} ({faces_in} faces after repair)", mesh.display());
+        let runs: Vec<String> = totals.iter().map(|t| format!("{t:.3}")).collect();
         println!(
-            "algesurf smooth, resolution {n} × {m}: construction {construction:.3} s ({:.0} faces/s), \
-             tessellation {tessellation:.3} s ({:.3} M points/s), {tris} triangles; total {:.3} s",
+            "algesurf smooth, resolution {n} × {m}, best of {REPEATS} (totals {} s): construction \
+             {construction:.3} s ({:.0} faces/s), tessellation {tessellation:.3} s ({:.3} M \
+             points/s), {tris} triangles; total {:.3} s",
+            runs.join(", "),
             faces_in as f64 / construction,
             points as f64 / tessellation / 1e6,
             construction + tessellation
