@@ -7,6 +7,7 @@ mod check;
 mod convert;
 mod deviation;
 mod info;
+mod memory;
 mod render;
 mod smooth;
 

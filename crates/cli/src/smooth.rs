@@ -221,6 +221,30 @@ struct Timings {
     tessellation: f64,
     check: f64,
     write: f64,
+    /// Page faults per stage.
+    faults: StageFaults,
+}
+
+/// Minor page faults of each stage ([`crate::memory`]), `None` where they cannot be read.
+#[derive(Debug, Default, Clone)]
+struct StageFaults {
+    read: Option<u64>,
+    repair: Option<u64>,
+    normals: Option<u64>,
+    construction: Option<u64>,
+    tessellation: Option<u64>,
+    check: Option<u64>,
+    write: Option<u64>,
+}
+
+/// [`stage`], also counting the minor page faults the process took during it.
+fn measured<T>(name: &str, progress: bool, f: impl FnOnce() -> T) -> (T, f64, Option<u64>) {
+    let before = crate::memory::minor_faults();
+    let (r, dt) = stage(name, progress, f);
+    let faults = before
+        .zip(crate::memory::minor_faults())
+        .map(|(a, b)| b.saturating_sub(a));
+    (r, dt, faults)
 }
 
 /// Runs `f`, timing it; with `progress`, shows a spinner named `name` on stderr once it has
@@ -424,13 +448,13 @@ pub(crate) fn build(
     // Read and repair (the built-in mesh needs neither).
     let (tri, repair_text, repair_json) = match input {
         Some(path) => {
-            let (mesh, dt) = stage("reading", progress, || crate::read_mesh(path));
-            t.read = dt;
+            let (mesh, dt, faults) = measured("reading", progress, || crate::read_mesh(path));
+            (t.read, t.faults.read) = (dt, faults);
             let mesh = mesh?;
-            let (repaired, dt) = stage("repairing", progress, || {
+            let (repaired, dt, faults) = measured("repairing", progress, || {
                 repair(&mesh, &RepairOptions::default())
             });
-            t.repair = dt;
+            (t.repair, t.faults.repair) = (dt, faults);
             let repaired =
                 repaired.map_err(|e| format!("{}: repair failed: {e}", path.display()))?;
             let r = &repaired.report;
@@ -465,10 +489,10 @@ pub(crate) fn build(
         return Err(format!("{source}: the mesh has no faces").into());
     }
 
-    let (normals, dt) = stage("normals", progress, || {
+    let (normals, dt, faults) = measured("normals", progress, || {
         vertex_normals(&tri, args.normals.method())
     });
-    t.normals = dt;
+    (t.normals, t.faults.normals) = (dt, faults);
     let normals = normals.map_err(|e| {
         let hint = if args.normals == SmoothNormals::File {
             " (the file has no normals: use --normals loop)"
@@ -493,10 +517,10 @@ pub(crate) fn build(
     } else {
         ""
     };
-    let (surface, dt) = stage("building the hull and the surface", progress, || {
+    let (surface, dt, faults) = measured("building the hull and the surface", progress, || {
         ApatchSurface::new(&tri, &normals, &options)
     });
-    t.construction = dt;
+    (t.construction, t.faults.construction) = (dt, faults);
     let surface = surface.map_err(|e| match e {
         ApatchError::Hull(e) => {
             format!("{source}: cannot build the simplicial hull: {e}{ids_note}")
@@ -580,18 +604,18 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
         .max()
         .unwrap_or(0);
 
-    let (tess, dt) = stage("tessellating", progress, || surface.tessellate(n, m));
-    t.tessellation = dt;
+    let (tess, dt, faults) = measured("tessellating", progress, || surface.tessellate(n, m));
+    (t.tessellation, t.faults.tessellation) = (dt, faults);
     let tess = tess.map_err(|e| format!("{source}: cannot tessellate: {e}"))?;
 
-    let ((deviation, diagonal), dt) = stage("checking", progress, || {
+    let ((deviation, diagonal), dt, faults) = measured("checking", progress, || {
         crate::deviation::max_deviation(
             &tri,
             &tess.positions,
             &crate::deviation::input_face_hints(&surface, &tess),
         )
     });
-    t.check = dt;
+    (t.check, t.faults.check) = (dt, faults);
     let min_margin = surface
         .free_parameters()
         .iter()
@@ -605,12 +629,23 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
 
     let out_mesh = output_mesh(&tess);
     let write_options = WriteOptions::default();
-    let (written, dt) = stage("writing", progress, || {
+    let (written, dt, faults) = measured("writing", progress, || {
         algesurf_io::write(&output, &out_mesh, &write_options)
     });
-    t.write = dt;
+    (t.write, t.faults.write) = (dt, faults);
     written?;
     let total = total_start.elapsed().as_secs_f64();
+    let peak = crate::memory::peak_resident_bytes();
+    let f = &t.faults;
+    let stage_faults = [
+        ("read", f.read),
+        ("repair", f.repair),
+        ("normals", f.normals),
+        ("construction", f.construction),
+        ("tessellation", f.tessellation),
+        ("check", f.check),
+        ("write", f.write),
+    ];
 
     let missed = tess.missed_rays.len();
     let multiple = tess.multiple_roots.len();
@@ -681,6 +716,14 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
             "write": t.write,
             "total": total,
         },
+        // Linux only (null elsewhere): see `memory.rs`.
+        "memory": {
+            "peak_resident_bytes": peak,
+            "minor_page_faults": stage_faults
+                .iter()
+                .map(|&(k, v)| (k.to_string(), json!(v)))
+                .collect::<serde_json::Map<_, _>>(),
+        },
     });
 
     let ms = |s: f64| format!("{:.1} ms", s * 1e3);
@@ -736,6 +779,18 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
         } else {
             "n/a (no free parameters)".into()
         };
+        if let Some(peak) = peak {
+            let faults: Vec<String> = stage_faults
+                .iter()
+                .filter_map(|&(k, v)| Some(format!("{k} {}", v?)))
+                .collect();
+            let _ = writeln!(
+                s,
+                "memory: peak {:.0} MB resident; page faults: {}",
+                peak as f64 / 1e6,
+                faults.join(", ")
+            );
+        }
         let _ = writeln!(s, "min free-parameter margin: {margin_text}");
         let _ = writeln!(
             s,

@@ -237,6 +237,31 @@ fn icosphere_with_sphere_normals_gives_the_sphere() {
             .unwrap_or_else(|| panic!("timings_s.{stage}"));
         assert!(t >= 0.0);
     }
+    // Memory figures: read from /proc on Linux, null elsewhere.
+    let memory = &json["memory"];
+    let stages = [
+        "read",
+        "repair",
+        "normals",
+        "construction",
+        "tessellation",
+        "check",
+        "write",
+    ];
+    if cfg!(target_os = "linux") {
+        let peak = memory["peak_resident_bytes"].as_u64().expect("peak");
+        // The output mesh alone (positions, normals, triangles) is hundreds of kB.
+        assert!(peak > 1 << 20, "peak {peak}");
+        for stage in stages {
+            assert!(
+                memory["minor_page_faults"][stage].is_u64(),
+                "minor_page_faults.{stage}"
+            );
+        }
+        assert!(text(&out).contains("memory: peak "), "{}", text(&out));
+    } else {
+        assert!(memory["peak_resident_bytes"].is_null());
+    }
     assert!(
         json["free_parameters"]["min_relative_margin"]
             .as_f64()
