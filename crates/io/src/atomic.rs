@@ -14,6 +14,21 @@ static COUNTER: AtomicU64 = AtomicU64::new(0);
 /// # Errors
 /// [`IoError::Io`] naming `path`; the temporary file is removed on failure.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), IoError> {
+    write_atomic_with(path, |file| {
+        file.write_all(bytes).map_err(|source| IoError::Io {
+            path: path.to_path_buf(),
+            source,
+        })
+    })
+}
+
+/// [`write_atomic`] for content that `fill` writes in pieces (a writer streaming a large mesh,
+/// so that no copy of the whole file is built in memory first). `fill`'s error is returned
+/// as it is, and the temporary file removed.
+pub(crate) fn write_atomic_with(
+    path: &Path,
+    fill: impl FnOnce(&mut dyn Write) -> Result<(), IoError>,
+) -> Result<(), IoError> {
     let io_err = |source| IoError::Io {
         path: path.to_path_buf(),
         source,
@@ -31,19 +46,21 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), IoError> {
         std::process::id(),
         COUNTER.fetch_add(1, Ordering::Relaxed)
     ));
-    let result = (|| {
-        let mut file = std::fs::OpenOptions::new()
-            .write(true)
-            .create_new(true)
-            .open(&tmp)?;
-        file.write_all(bytes)?;
-        file.sync_all()?;
-        drop(file);
-        std::fs::rename(&tmp, path)
-    })();
-    if let Err(e) = result {
+    let mut file = std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&tmp)
+        .map_err(io_err)?;
+    let result = fill(&mut file).and_then(|()| {
+        file.sync_all()
+            .and_then(|()| {
+                drop(file);
+                std::fs::rename(&tmp, path)
+            })
+            .map_err(io_err)
+    });
+    if result.is_err() {
         let _ = std::fs::remove_file(&tmp);
-        return Err(io_err(e));
     }
-    Ok(())
+    result
 }

@@ -162,6 +162,12 @@ pub fn write_as(
     options: &WriteOptions,
 ) -> Result<(), IoError> {
     let path = path.as_ref();
+    if format == Format::Ply {
+        // Streamed to the file: a tessellation's PLY is tens of MB.
+        let ctx = Ctx { path, format };
+        check_writable(mesh, ctx)?;
+        return atomic::write_atomic_with(path, |file| ply::write_to(mesh, options, ctx, file));
+    }
     let bytes = write_impl(mesh, format, options, path)?;
     atomic::write_atomic(path, &bytes)
 }

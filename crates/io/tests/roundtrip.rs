@@ -201,6 +201,44 @@ fn files_on_disk_by_extension_and_atomic() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// A PLY file is streamed to disk in chunks of about a megabyte: the file holds exactly the
+/// bytes `write_bytes` gives, in every encoding, for a mesh several chunks long; an error
+/// found while streaming (a property name PLY cannot hold) leaves the old file as it was and
+/// no temporary file behind.
+#[test]
+fn ply_streamed_to_disk_is_the_in_memory_encoding() {
+    let dir = std::env::temp_dir().join(format!("algesurf-io-stream-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mesh = grid(400, 300, true);
+    let path = dir.join("big.ply");
+    for o in ply_options() {
+        let bytes = write_bytes(&mesh, Format::Ply, &o).unwrap();
+        assert!(
+            bytes.len() > 3 << 20,
+            "{} bytes: several chunks",
+            bytes.len()
+        );
+        write(&path, &mesh, &o).unwrap();
+        assert!(std::fs::read(&path).unwrap() == bytes, "{o:?}");
+    }
+    let before = std::fs::read(&path).unwrap();
+    let mut bad = mesh.clone();
+    bad.vertex_properties.push(algesurf_mesh::Property {
+        name: "two words".into(),
+        values: PropertyValues::Float(vec![0.0; bad.vertex_count()]),
+    });
+    let err = write(&path, &bad, &WriteOptions::default()).unwrap_err();
+    assert!(err.to_string().contains("two words"), "{err}");
+    assert!(std::fs::read(&path).unwrap() == before);
+    let leftovers: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .filter(|e| e.file_name().to_string_lossy().ends_with(".tmp"))
+        .collect();
+    assert!(leftovers.is_empty(), "{leftovers:?}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 fn fan_or_not(mesh: &PolygonMesh, f: Format) -> PolygonMesh {
     match f {
         Format::Stl | Format::Gltf | Format::Glb => fan(mesh),
