@@ -362,11 +362,12 @@ fn kind_code(k: PatchKind) -> i64 {
 
 /// The output mesh: positions, ∇F normals, per-vertex patch id (the smallest patch id among
 /// the triangles using the vertex, so the vertex of a patch's interior gets that patch), and
-/// per-face patch id and kind.
-fn output_mesh(t: &Tessellation) -> PolygonMesh {
-    let mut mesh = PolygonMesh::from_triangles(t.positions.clone(), &t.triangles);
-    mesh.normals = Some(t.normals.clone());
-    let mut vertex_patch = vec![i64::MAX; t.positions.len()];
+/// per-face patch id and kind. The positions and normals are moved out of `t`.
+fn output_mesh(t: &mut Tessellation) -> PolygonMesh {
+    // Moved, not copied: 35 MB of fresh pages on the bunny's tessellation.
+    let mut mesh = PolygonMesh::from_triangles(std::mem::take(&mut t.positions), &t.triangles);
+    mesh.normals = Some(std::mem::take(&mut t.normals));
+    let mut vertex_patch = vec![i64::MAX; mesh.vertex_count()];
     for (tri, &p) in t.triangles.iter().zip(&t.triangle_patch) {
         for &v in tri {
             let slot = &mut vertex_patch[v as usize];
@@ -606,7 +607,7 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
 
     let (tess, dt, faults) = measured("tessellating", progress, || surface.tessellate(n, m));
     (t.tessellation, t.faults.tessellation) = (dt, faults);
-    let tess = tess.map_err(|e| format!("{source}: cannot tessellate: {e}"))?;
+    let mut tess = tess.map_err(|e| format!("{source}: cannot tessellate: {e}"))?;
 
     let ((deviation, diagonal), dt, faults) = measured("checking", progress, || {
         crate::deviation::max_deviation(
@@ -627,7 +628,8 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
     // tetrahedra are left overlapping, see `SimplicialHull::distant_intersections`).
     let crossings = surface.hull().input_crossings();
 
-    let out_mesh = output_mesh(&tess);
+    let (out_vertices, out_triangles) = (tess.positions.len(), tess.triangles.len());
+    let out_mesh = output_mesh(&mut tess);
     let write_options = WriteOptions::default();
     let (written, dt, faults) = measured("writing", progress, || {
         algesurf_io::write(&output, &out_mesh, &write_options)
@@ -689,8 +691,8 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
             "total": counts.face + counts.edge + counts.planar,
         },
         "output_mesh": {
-            "vertices": tess.positions.len(),
-            "triangles": tess.triangles.len(),
+            "vertices": out_vertices,
+            "triangles": out_triangles,
         },
         "free_parameters": {
             "count": surface.free_parameters().len(),
@@ -758,8 +760,7 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
         let _ = writeln!(
             s,
             "output: {} triangles, {} vertices (resolution {n}, across {m})",
-            tess.triangles.len(),
-            tess.positions.len()
+            out_triangles, out_vertices
         );
         let _ = writeln!(
             s,
