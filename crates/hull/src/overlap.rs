@@ -108,8 +108,19 @@ pub(crate) fn depth_until(
     if d == 0.0 || !d.is_finite() {
         return 0.0;
     }
-    let mut depth = f64::INFINITY;
-    // Face axes: `t`'s own interval is {0, height}; `u`'s from its four vertices.
+    // Face axes: `t`'s own interval is {0, height}; `u`'s from its four vertices. Their
+    // overlaps `x / d` share the divisor, and correctly rounded division by `d > 0` is
+    // monotone, so the least of them is `fl(min x / d)`: the least numerator is kept and
+    // divided when needed, not every axis's. An axis is decided without a division when the
+    // least numerator is at most 0 (then `fl(x / d) ≤ 0 ≤ stop`), or above `above`: with
+    // `s = fl(stop·d)` and `above = fl(s(1 + 4ε))`, `x > above` gives
+    // `x / d > stop(1 − u)²(1 + 8u) > stop(1 + 5u)`, so `fl(x / d) > stop` (u = ε/2, for
+    // normal `stop` and `s`; otherwise every axis divides). Same values, bit for bit (tested
+    // against a division per axis); `hull_intersections_bunny` 222–246 → 207–225 ms fastest.
+    let s = stop * d;
+    let fast = stop >= f64::MIN_POSITIVE && s >= f64::MIN_POSITIVE && s.is_finite();
+    let above = s * (1.0 + 4.0 * f64::EPSILON);
+    let mut least = f64::INFINITY;
     for (t, pt, u) in [(a, pa, b), (b, pb, a)] {
         for k in 0..4 {
             let n = pt.normal[k];
@@ -124,13 +135,16 @@ pub(crate) fn depth_until(
                 umax = umax.max(x);
             }
             let h = pt.height[k];
-            let ov = (h.max(0.0).min(umax) - h.min(0.0).max(umin)) / d;
-            depth = depth.min(ov);
-            if depth <= stop {
-                return depth;
+            least = least.min(h.max(0.0).min(umax) - h.min(0.0).max(umin));
+            if !(fast && least > above) {
+                let depth = least / d;
+                if depth <= stop {
+                    return depth;
+                }
             }
         }
     }
+    let mut depth = least / d;
     // Edge–edge axes, relative to `a[0]`.
     let o = a[0];
     let la: [DVec3; 4] = std::array::from_fn(|k| a[k] - o);
@@ -193,6 +207,106 @@ mod tests {
         let m = glam::DMat3::from_cols(t[1] - t[0], t[2] - t[0], t[3] - t[0]);
         let x = m.inverse() * (p - t[0]);
         [1.0 - x.x - x.y - x.z, x.x, x.y, x.z]
+    }
+
+    /// `depth_until` with a division per face axis, as it was before the least numerator was
+    /// kept: the reference for the bit-for-bit test below.
+    fn depth_until_dividing(a: &[DVec3; 4], b: &[DVec3; 4], d: f64, stop: f64) -> f64 {
+        if d == 0.0 || !d.is_finite() {
+            return 0.0;
+        }
+        let (pa, pb) = (FacePlanes::of(a), FacePlanes::of(b));
+        let mut depth = f64::INFINITY;
+        for (t, pt, u) in [(a, &pa, b), (b, &pb, a)] {
+            for k in 0..4 {
+                let n = pt.normal[k];
+                if n == DVec3::ZERO {
+                    continue;
+                }
+                let o = t[FACES[k].0];
+                let (mut umin, mut umax) = (f64::INFINITY, f64::NEG_INFINITY);
+                for p in u {
+                    let x = n.dot(*p - o);
+                    umin = umin.min(x);
+                    umax = umax.max(x);
+                }
+                let h = pt.height[k];
+                depth = depth.min((h.max(0.0).min(umax) - h.min(0.0).max(umin)) / d);
+                if depth <= stop {
+                    return depth;
+                }
+            }
+        }
+        let o = a[0];
+        let la: [DVec3; 4] = std::array::from_fn(|k| a[k] - o);
+        let lb: [DVec3; 4] = std::array::from_fn(|k| b[k] - o);
+        for &(i, j) in &EDGES {
+            for &(k, l) in &EDGES {
+                let w = (la[j] - la[i]).cross(lb[l] - lb[k]);
+                let len = w.length();
+                if len == 0.0 || !len.is_finite() {
+                    continue;
+                }
+                let span = |v: &[DVec3; 4]| {
+                    v.iter()
+                        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                            (lo.min(p.dot(w)), hi.max(p.dot(w)))
+                        })
+                };
+                let ((amin, amax), (bmin, bmax)) = (span(&la), span(&lb));
+                depth = depth.min((amax.min(bmax) - amin.max(bmin)) / (len * d));
+                if depth <= stop {
+                    return depth;
+                }
+            }
+        }
+        depth
+    }
+
+    /// Keeping the least face-axis numerator and dividing only where the decision needs it
+    /// gives the same value, bit for bit, as a division per axis: for separated, touching
+    /// (shared faces, edges and vertices, as in a hull) and overlapping pairs, with stops of
+    /// 0, the hull's tolerance, values near the pair's own depth, negative and subnormal.
+    #[test]
+    fn least_numerator_gives_the_divided_depth_bit_for_bit() {
+        let mut r = Lcg(11);
+        let mut exits_below = 0;
+        for case in 0..4000 {
+            let a: [DVec3; 4] = std::array::from_fn(|_| r.point());
+            let mut b: [DVec3; 4] = std::array::from_fn(|_| r.point() * 0.8 + 0.3);
+            // Share a face, an edge or a vertex with `a` in three of every four cases.
+            for k in 0..case % 4 {
+                b[k] = a[(k + case / 4) % 4];
+            }
+            if case % 7 == 0 {
+                // Mirror the last vertex through the shared part: touching, not overlapping.
+                b[3] = a[0] + (a[0] - b[3]);
+            }
+            let scale = [1.0, 1e-6, 1e6][case % 3];
+            let (a, b) = (a.map(|p| p * scale), b.map(|p| p * scale));
+            let d = common_diagonal(&tet_box(&a), &tet_box(&b));
+            let own = depth_until_dividing(&a, &b, d, f64::NEG_INFINITY);
+            for stop in [
+                0.0,
+                1e-9,
+                own,
+                own.next_down(),
+                own.next_up(),
+                -1.0,
+                f64::MIN_POSITIVE / 4.0,
+            ] {
+                let (pa, pb) = (FacePlanes::of(&a), FacePlanes::of(&b));
+                let got = depth_until(&a, &pa, &b, &pb, d, stop);
+                let want = depth_until_dividing(&a, &b, d, stop);
+                assert_eq!(
+                    got.to_bits(),
+                    want.to_bits(),
+                    "case {case}, stop {stop:e}: {got:e} vs {want:e}"
+                );
+                exits_below += (want <= stop) as usize;
+            }
+        }
+        assert!(exits_below > 4000, "{exits_below} early exits");
     }
 
     /// Against sampling: a sample point strictly inside both proves an overlap, and pairs the
