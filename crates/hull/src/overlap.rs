@@ -89,6 +89,26 @@ impl FacePlanes {
     }
 }
 
+/// The overlap, in length (not yet relative), of `t` and `u` along the normal of `t`'s face
+/// `k`: `t`'s own interval there is {0, height}, `u`'s spans its four vertices. `None` for a
+/// degenerate face (zero normal).
+#[inline]
+fn face_axis_overlap(t: &[DVec3; 4], pt: &FacePlanes, k: usize, u: &[DVec3; 4]) -> Option<f64> {
+    let n = pt.normal[k];
+    if n == DVec3::ZERO {
+        return None;
+    }
+    let o = t[FACES[k].0];
+    let (mut umin, mut umax) = (f64::INFINITY, f64::NEG_INFINITY);
+    for p in u {
+        let x = n.dot(*p - o);
+        umin = umin.min(x);
+        umax = umax.max(x);
+    }
+    let h = pt.height[k];
+    Some(h.max(0.0).min(umax) - h.min(0.0).max(umin))
+}
+
 /// [`overlap_depth`], except that it stops at the first axis whose relative overlap is at
 /// most `stop` and returns that value: `depth_until(a, …, tol) > tol` exactly when
 /// `overlap_depth(a, b) > tol` (both are the minimum over the same axes when that is above
@@ -108,11 +128,10 @@ pub(crate) fn depth_until(
     if d == 0.0 || !d.is_finite() {
         return 0.0;
     }
-    // Face axes: `t`'s own interval is {0, height}; `u`'s from its four vertices. Their
-    // overlaps `x / d` share the divisor, and correctly rounded division by `d > 0` is
-    // monotone, so the least of them is `fl(min x / d)`: the least numerator is kept and
-    // divided when needed, not every axis's. An axis is decided without a division when the
-    // least numerator is at most 0 (then `fl(x / d) ≤ 0 ≤ stop`), or above `above`: with
+    // Face axes ([`face_axis_overlap`]). Their overlaps `x / d` share the divisor, and
+    // correctly rounded division by `d > 0` is monotone, so the least of them is
+    // `fl(min x / d)`: the least numerator is kept and divided when needed, not every
+    // axis's. An axis is decided without a division when the least numerator is at most 0 (then `fl(x / d) ≤ 0 ≤ stop`), or above `above`: with
     // `s = fl(stop·d)` and `above = fl(s(1 + 4ε))`, `x > above` gives
     // `x / d > stop(1 − u)²(1 + 8u) > stop(1 + 5u)`, so `fl(x / d) > stop` (u = ε/2, for
     // normal `stop` and `s`; otherwise every axis divides). Same values, bit for bit (tested
@@ -123,19 +142,10 @@ pub(crate) fn depth_until(
     let mut least = f64::INFINITY;
     for (t, pt, u) in [(a, pa, b), (b, pb, a)] {
         for k in 0..4 {
-            let n = pt.normal[k];
-            if n == DVec3::ZERO {
+            let Some(x) = face_axis_overlap(t, pt, k, u) else {
                 continue;
-            }
-            let o = t[FACES[k].0];
-            let (mut umin, mut umax) = (f64::INFINITY, f64::NEG_INFINITY);
-            for p in u {
-                let x = n.dot(*p - o);
-                umin = umin.min(x);
-                umax = umax.max(x);
-            }
-            let h = pt.height[k];
-            least = least.min(h.max(0.0).min(umax) - h.min(0.0).max(umin));
+            };
+            least = least.min(x);
             if !(fast && least > above) {
                 let depth = least / d;
                 if depth <= stop {
@@ -219,19 +229,10 @@ mod tests {
         let mut depth = f64::INFINITY;
         for (t, pt, u) in [(a, &pa, b), (b, &pb, a)] {
             for k in 0..4 {
-                let n = pt.normal[k];
-                if n == DVec3::ZERO {
+                let Some(x) = face_axis_overlap(t, pt, k, u) else {
                     continue;
-                }
-                let o = t[FACES[k].0];
-                let (mut umin, mut umax) = (f64::INFINITY, f64::NEG_INFINITY);
-                for p in u {
-                    let x = n.dot(*p - o);
-                    umin = umin.min(x);
-                    umax = umax.max(x);
-                }
-                let h = pt.height[k];
-                depth = depth.min((h.max(0.0).min(umax) - h.min(0.0).max(umin)) / d);
+                };
+                depth = depth.min(x / d);
                 if depth <= stop {
                     return depth;
                 }
