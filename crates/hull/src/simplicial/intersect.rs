@@ -9,6 +9,13 @@ use algesurf_mesh::morton::MortonBvh;
 use glam::DVec3;
 use rayon::prelude::*;
 
+/// Tetrahedra per leaf of the overlap check's tree: a hull's tetrahedra overlap ~40 others'
+/// boxes each, and larger leaves than the default four, with fewer nodes to visit, made the
+/// bunny's hull faster: `hull_bunny` 594–659 → 569–616 ms fastest, the check alone
+/// (`hull_intersections_bunny`) by 0–15 % (alternating divan runs of 4, 8 and 16 per leaf;
+/// `docs/PERFORMANCE.md`, sixth pass).
+const TET_LEAF_SIZE: usize = 16;
+
 impl SimplicialHull {
     /// The tetrahedra of element `k`, positive before negative: face `k` for
     /// `k < faces().len()`, else edge `k − faces().len()`.
@@ -109,10 +116,11 @@ impl SimplicialHull {
         // candidate pairs on the bunny) are copied into the tree's Morton order, so that the
         // pairs of neighbouring leaves read neighbouring memory. Each pair is tested in the
         // order of its indices, `depth_until(lower, higher)`, whichever way the walk meets it.
-        let bvh = MortonBvh::new(
+        let bvh = MortonBvh::with_leaf_size(
             ids.par_iter()
                 .map(|&id| tet_box(&self.element_tet(id).vertices))
                 .collect(),
+            TET_LEAF_SIZE,
         );
         let order = bvh.order();
         let verts: Vec<[DVec3; 4]> = order
