@@ -154,7 +154,7 @@ pub fn write(
 }
 
 /// Writes a mesh in the given format, whatever the extension of `path` (atomically, as
-/// [`write`]).
+/// [`write()`]).
 pub fn write_as(
     path: impl AsRef<Path>,
     mesh: &PolygonMesh,

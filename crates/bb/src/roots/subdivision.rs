@@ -11,8 +11,8 @@
 //!
 //! Algorithm (all bounds proven in the comments):
 //! 1. normalise by `M = max|b_k|` (one rounding per coefficient);
-//! 2. roots at 0 and 1 from the end coefficients ([`super::end_multiplicities`]) and exact
-//!    deflation ([`super::deflate`]);
+//! 2. roots at 0 and 1 from the end coefficients (`end_multiplicities` in `roots`) and exact
+//!    deflation (`deflate` in `roots`);
 //! 3. subdivide `[0, 1]` with an explicit stack; each interval carries its coefficients and a
 //!    per-coefficient error bound. Classify by the sign changes that *any* admissible
 //!    perturbation can produce: `V_max = 0` → no root, `V_min = V_max = 1` → one simple root,
