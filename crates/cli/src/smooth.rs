@@ -395,23 +395,15 @@ fn output_mesh(t: &mut Tessellation) -> PolygonMesh {
     mesh
 }
 
-/// Writes `text` to `path` through a temporary file in the same directory and a rename.
+/// Writes the report `text` to `path` atomically ([`algesurf_io::write_atomic`]: a temporary
+/// file in the same directory, synced, then renamed over `path`).
 pub(crate) fn write_atomic(path: &Path, text: &str) -> Result<(), BoxError> {
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "report".into());
-    let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
-    let result = std::fs::write(&tmp, text).and_then(|()| std::fs::rename(&tmp, path));
-    if let Err(e) = result {
-        let _ = std::fs::remove_file(&tmp);
-        return Err(format!("{}: cannot write the report: {e}", path.display()).into());
-    }
-    Ok(())
+    algesurf_io::write_atomic(path, text.as_bytes()).map_err(|e| match e {
+        algesurf_io::IoError::Io { source, .. } => {
+            format!("{}: cannot write the report: {source}", path.display()).into()
+        }
+        other => other.into(),
+    })
 }
 
 /// A surface built on the input as `smooth` builds it, with what the report needs.

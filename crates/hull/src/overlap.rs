@@ -25,13 +25,19 @@ const FACES: [(usize, usize, usize); 4] = [(1, 2, 3), (0, 2, 3), (0, 1, 3), (0, 
 /// with their distance from the origin: a shared vertex projects to values within a few ulps
 /// of `D` of the face's own.
 pub fn overlap_depth(a: &[DVec3; 4], b: &[DVec3; 4]) -> f64 {
+    depth_beyond(a, b, 0.0)
+}
+
+/// [`depth_until`] of two tetrahedra given by their vertices alone (face planes and `D`
+/// computed here): for pairs tested once, where nothing is kept to reuse.
+pub(crate) fn depth_beyond(a: &[DVec3; 4], b: &[DVec3; 4], stop: f64) -> f64 {
     depth_until(
         a,
         &FacePlanes::of(a),
         b,
         &FacePlanes::of(b),
         pair_diagonal(a, b),
-        0.0,
+        stop,
     )
 }
 
@@ -203,8 +209,7 @@ pub(crate) fn depth_until(
 /// assert!(tetrahedra_overlap(&a, &c, 1e-9));
 /// ```
 pub fn tetrahedra_overlap(a: &[DVec3; 4], b: &[DVec3; 4], tolerance: f64) -> bool {
-    let d = pair_diagonal(a, b);
-    depth_until(a, &FacePlanes::of(a), b, &FacePlanes::of(b), d, tolerance) > tolerance
+    depth_beyond(a, b, tolerance) > tolerance
 }
 
 #[cfg(test)]

@@ -4,7 +4,8 @@
 
 use super::{Element, HullTetrahedron, Intersection, SimplicialHull};
 use crate::Side;
-use crate::overlap::{FacePlanes, common_diagonal, depth_until, tet_box};
+use crate::overlap::{FacePlanes, common_diagonal, depth_beyond, depth_until, tet_box};
+use algesurf_mesh::Aabb;
 use algesurf_mesh::morton::MortonBvh;
 use glam::DVec3;
 use rayon::prelude::*;
@@ -237,23 +238,25 @@ impl SimplicialHull {
                 Element::Face(f) => f as usize,
                 Element::Edge(e) => nf + e as usize,
             };
-            (self.tet_key(k, t.side), t.vertices, tet_box(&t.vertices))
+            (self.tet_key(k, t.side), t.vertices, aabb(&t.vertices))
         }));
         let tol = self.options.overlap_tolerance;
         let index = &*index;
         let mut pairs: Vec<(u32, u32, Intersection)> = new
             .par_iter()
             .map_init(Vec::new, |stack, &(i, t)| {
-                let b = tet_box(&t.vertices);
+                let b = aabb(&t.vertices);
                 let mut candidates: Vec<(TetKey, &[DVec3; 4])> = Vec::new();
-                index.tree.overlapping_slots(&b, stack, |slot| {
-                    candidates.push((index.keys[slot], &index.verts[slot]));
-                });
+                index
+                    .tree
+                    .overlapping_slots(&(b.min, b.max), stack, |slot| {
+                        candidates.push((index.keys[slot], &index.verts[slot]));
+                    });
                 candidates.extend(
                     index
                         .later
                         .iter()
-                        .filter(|(_, _, lb)| lb.0.cmple(b.1).all() && b.0.cmple(lb.1).all())
+                        .filter(|(_, _, lb)| lb.overlaps(&b))
                         .map(|(key, v, _)| (*key, v)),
                 );
                 let mut out = Vec::new();
@@ -267,10 +270,7 @@ impl SimplicialHull {
                     } else {
                         ((j, u), (i, t))
                     };
-                    let (va, vb) = (&a.vertices, &b.vertices);
-                    let d = common_diagonal(&tet_box(va), &tet_box(vb));
-                    let depth =
-                        depth_until(va, &FacePlanes::of(va), vb, &FacePlanes::of(vb), d, tol);
+                    let depth = depth_beyond(&a.vertices, &b.vertices, tol);
                     if depth > tol {
                         out.push((
                             i,
@@ -321,7 +321,13 @@ pub(crate) struct TetIndex {
     tree: MortonBvh,
     keys: Vec<TetKey>,
     verts: Vec<[DVec3; 4]>,
-    later: Vec<(TetKey, [DVec3; 4], (DVec3, DVec3))>,
+    later: Vec<(TetKey, [DVec3; 4], Aabb)>,
+}
+
+/// A tetrahedron's bounding box as an [`Aabb`] ([`tet_box`]'s corners).
+fn aabb(v: &[DVec3; 4]) -> Aabb {
+    let (min, max) = tet_box(v);
+    Aabb { min, max }
 }
 
 #[cfg(test)]
