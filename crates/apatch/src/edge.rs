@@ -488,8 +488,8 @@ fn elevate_to_cubic(c: [f64; 4], n: usize) -> [f64; 4] {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::test_rng::Lcg;
     use algesurf_bb::sheet::square::{interpolate_tensor3, tensor3_value};
+    use algesurf_mesh::test_rng::Lcg;
 
     /// The shortcut of `blossom_at` gives the three-step blossom's bits, for every coefficient
     /// with unit vectors and one general point among the arguments, in every position.
@@ -497,8 +497,8 @@ mod tests {
     fn blossom_at_unit_vectors_is_the_full_blossom_bit_for_bit() {
         let mut rng = Lcg(11);
         for _ in 0..50 {
-            let poly: cubic::Coeffs = std::array::from_fn(|_| 2.0 * rng.next() - 1.0);
-            let general = [0.3, -0.2, 1.1, -0.2].map(|x| x + 0.1 * rng.next());
+            let poly: cubic::Coeffs = std::array::from_fn(|_| 2.0 * rng.centred() - 1.0);
+            let general = [0.3, -0.2, 1.1, -0.2].map(|x| x + 0.1 * rng.centred());
             for g in 0..4 {
                 // Vertex `g` general, the others unit vectors in some order.
                 let mut verts = [[0.0; 4]; 4];
@@ -596,7 +596,7 @@ mod tests {
                     DVec3::new(0.0, 0.3 * y, 1.0) + 0.2 * rng.vec(),
                 ])
                 .unwrap(),
-                poly: BbPoly::new(3, (0..20).map(|_| 2.0 * rng.next() - 1.0).collect()).unwrap(),
+                poly: BbPoly::new(3, (0..20).map(|_| 2.0 * rng.centred() - 1.0).collect()).unwrap(),
             };
             let (k, l) = (side(&mut rng, 1.0), side(&mut rng, -1.0));
             let e = EdgeCubic::from_neighbours(pi, pj, &k, &l).unwrap();
@@ -627,7 +627,7 @@ mod tests {
                 }
             }
             for _ in 0..10 {
-                let (x, y) = (rng.next(), rng.next());
+                let (x, y) = (rng.centred(), rng.centred());
                 let direct = e.shooting_polynomial(x, y);
                 for k in 0..4 {
                     let v = tensor3_value(&t[k], x, y);

@@ -23,8 +23,6 @@ pub mod sheet;
 pub mod split;
 pub mod surface;
 pub mod tessellate;
-#[cfg(test)]
-mod test_rng;
 pub mod verify;
 
 pub use edge::{EdgeCubic, EdgeNeighbour};

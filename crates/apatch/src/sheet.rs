@@ -241,8 +241,8 @@ mod tests {
     /// rational term, on both sides.
     #[test]
     fn whole_face_shortcut_is_the_root_cell_bound() {
-        let mut rng = crate::test_rng::Lcg(99);
-        let mut next = || rng.next();
+        let mut rng = algesurf_mesh::test_rng::Lcg(99);
+        let mut next = || rng.centred();
         let mut decided = 0;
         for case in 0..200 {
             let poly = BbPoly::from_fn(3, |l| next() - if l[3] == 0 { 0.3 } else { 0.0 });

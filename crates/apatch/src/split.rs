@@ -232,7 +232,7 @@ fn constraints(
 mod tests {
     use super::*;
     use crate::constrained::nearest_solution;
-    use crate::test_rng::Lcg;
+    use algesurf_mesh::test_rng::Lcg;
 
     /// Forcing unknowns in cascade changes neither the feasible set nor the objective, so the
     /// nearest point is the dense solve's, to rounding: for apexes on a slanted line and on

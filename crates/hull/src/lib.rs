@@ -57,8 +57,6 @@ mod hull;
 mod overlap;
 mod refine;
 mod simplicial;
-#[cfg(test)]
-mod test_rng;
 
 pub use classify::{
     ApexParameters, Convexity, Side, alpha, apex_parameters, classify_edge, classify_face,

@@ -216,7 +216,7 @@ pub fn tetrahedra_overlap(a: &[DVec3; 4], b: &[DVec3; 4], tolerance: f64) -> boo
 mod tests {
     use super::*;
 
-    use crate::test_rng::Lcg;
+    use algesurf_mesh::test_rng::Lcg;
 
     fn bary(t: &[DVec3; 4], p: DVec3) -> [f64; 4] {
         let m = glam::DMat3::from_cols(t[1] - t[0], t[2] - t[0], t[3] - t[0]);

@@ -77,7 +77,8 @@ pub mod morton;
 pub mod primitives;
 mod self_intersection;
 pub mod self_join;
-#[cfg(test)]
-mod test_rng;
+#[cfg(any(test, feature = "test-util"))]
+#[doc(hidden)]
+pub mod test_rng;
 pub use bvh::{BoxBvh, ClosestPoint, RayHit, TriangleBvh};
 pub use self_intersection::{SELF_INTERSECTION_TOLERANCE, self_intersections};

@@ -313,6 +313,18 @@ mod tests {
     use super::*;
     use crate::test_rng::Lcg;
 
+    /// `n` boxes with corners in `[0, 10)³` and sides in `[0, 1)`, from generator seed `seed`.
+    fn random_boxes(seed: u64, n: usize) -> Vec<(DVec3, DVec3)> {
+        let mut rng = Lcg(seed);
+        let mut next = || rng.next();
+        (0..n)
+            .map(|_| {
+                let lo = DVec3::new(next(), next(), next()) * 10.0;
+                (lo, lo + DVec3::new(next(), next(), next()))
+            })
+            .collect()
+    }
+
     #[test]
     fn morton_spread_puts_bit_k_at_bit_3k() {
         assert_eq!(spread(0b111), 0b1001001);
@@ -325,14 +337,7 @@ mod tests {
     /// none.
     #[test]
     fn parallel_build_is_the_serial_tree() {
-        let mut rng = Lcg(99);
-        let mut next = || rng.next();
-        let boxes: Vec<(DVec3, DVec3)> = (0..3000)
-            .map(|_| {
-                let lo = DVec3::new(next(), next(), next()) * 10.0;
-                (lo, lo + DVec3::new(next(), next(), next()))
-            })
-            .collect();
+        let boxes = random_boxes(99, 3000);
         let serial = MortonBvh::build_with(boxes.clone(), DEFAULT_LEAF_SIZE, usize::MAX);
         let parallel = MortonBvh::build_with(boxes, DEFAULT_LEAF_SIZE, 8);
         assert!(serial.nodes.len() > 1000);
@@ -345,14 +350,7 @@ mod tests {
     /// every box in one leaf).
     #[test]
     fn self_join_finds_every_intersecting_pair_once() {
-        let mut rng = Lcg(12345);
-        let mut next = || rng.next();
-        let boxes: Vec<(DVec3, DVec3)> = (0..700)
-            .map(|_| {
-                let lo = DVec3::new(next(), next(), next()) * 10.0;
-                (lo, lo + DVec3::new(next(), next(), next()))
-            })
-            .collect();
+        let boxes = random_boxes(12345, 700);
         let marked: Vec<bool> = (0..boxes.len()).map(|i| i % 3 == 0).collect();
         for (leaf, marks) in [1, DEFAULT_LEAF_SIZE, 16, 1000]
             .into_iter()
