@@ -106,6 +106,34 @@ pub(crate) fn rank3(l: [usize; 4]) -> usize {
     RANK3[l[0]][l[1]][l[2]]
 }
 
+/// `[rank3(μ + e_0), …, rank3(μ + e_3)]` for a degree-2 index `μ` (by table: [`UP3`] at
+/// `μ`'s rank in degree 2).
+#[inline]
+pub(crate) fn up_ranks(mu: [usize; 4]) -> [usize; 4] {
+    debug_assert_eq!(mu.iter().sum::<usize>(), 2, "a degree-2 index");
+    UP3[RANK2[mu[0]][mu[1]][mu[2]]]
+}
+
+/// `RANK2[μ_0][μ_1][μ_2]`: the rank of the degree-2 index `(μ_0, μ_1, μ_2, 2 − μ_0 − μ_1 − μ_2)`
+/// (entries with `μ_0 + μ_1 + μ_2 > 2` unused).
+const RANK2: [[[usize; 3]; 3]; 3] = {
+    let mut ranks = [[[0usize; 3]; 3]; 3];
+    let mut a = 0;
+    while a <= 2 {
+        let mut b = 0;
+        while a + b <= 2 {
+            let mut c = 0;
+            while a + b + c <= 2 {
+                ranks[a][b][c] = rank([a, b, c, 2 - a - b - c], 2);
+                c += 1;
+            }
+            b += 1;
+        }
+        a += 1;
+    }
+    ranks
+};
+
 /// The 20 BB coefficients of a cubic on a tetrahedron.
 pub(crate) type Coeffs = [f64; 20];
 
@@ -269,19 +297,35 @@ pub(crate) fn blossom_weights(a: [f64; 4], b: [f64; 4], d: [f64; 4]) -> Coeffs {
     w
 }
 
-/// The vertices of the three blossom arguments of the coefficient `lambda`: vertex `s`
-/// repeated `lambda[s]` times, in vertex order.
-pub(crate) fn arg_vertices(lambda: [usize; 4]) -> [usize; 3] {
-    let mut args = [0usize; 3];
-    let mut n = 0;
-    for (s, &l) in lambda.iter().enumerate() {
-        for _ in 0..l {
-            args[n] = s;
-            n += 1;
+/// `ARGS3[rank3(λ)]`: the vertices of the three blossom arguments of the coefficient `λ`,
+/// vertex `s` repeated `λ[s]` times, in vertex order (a table, so that the hot loops over the
+/// 20 coefficients index with constants instead of counting out each `λ`).
+pub(crate) const ARGS3: [[usize; 3]; 20] = {
+    let mut args = [[0usize; 3]; 20];
+    let mut r = 0;
+    while r < 20 {
+        let l = INDICES3[r];
+        let mut n = 0;
+        let mut s = 0;
+        while s < 4 {
+            let mut k = 0;
+            while k < l[s] {
+                args[r][n] = s;
+                n += 1;
+                k += 1;
+            }
+            s += 1;
         }
+        r += 1;
     }
-    debug_assert_eq!(n, 3, "a cubic coefficient has three blossom arguments");
     args
+};
+
+/// The vertices of the three blossom arguments of the coefficient `lambda`: vertex `s`
+/// repeated `lambda[s]` times, in vertex order ([`ARGS3`]).
+pub(crate) fn arg_vertices(lambda: [usize; 4]) -> [usize; 3] {
+    debug_assert_eq!(lambda.iter().sum::<usize>(), 3, "a cubic coefficient");
+    ARGS3[rank3(lambda)]
 }
 
 /// The three blossom arguments of the coefficient `lambda`: `verts[s]` repeated `lambda[s]`
@@ -294,6 +338,30 @@ pub(crate) fn blossom_args(verts: &[[f64; 4]; 4], lambda: [usize; 4]) -> [[f64; 
 mod tests {
     use super::*;
     use algesurf_bb::{BbPoly, multi_index};
+
+    #[test]
+    fn up_ranks_are_the_ranks_of_the_raised_indices() {
+        for mu in algesurf_bb::multi_index::iter::<4>(2) {
+            let want: [usize; 4] = std::array::from_fn(|k| {
+                let mut l = mu;
+                l[k] += 1;
+                rank3(l)
+            });
+            assert_eq!(up_ranks(mu), want, "{mu:?}");
+        }
+    }
+
+    #[test]
+    fn blossom_argument_table_repeats_each_vertex_as_the_index_says() {
+        for (l, args) in INDICES3.iter().zip(ARGS3) {
+            let mut count = [0usize; 4];
+            for s in args {
+                count[s] += 1;
+            }
+            assert_eq!(&count, l);
+            assert!(args.windows(2).all(|w| w[0] <= w[1]), "{args:?} in vertex order");
+        }
+    }
 
     #[test]
     fn index_tables_are_the_storage_order() {

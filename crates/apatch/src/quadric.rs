@@ -60,8 +60,7 @@ impl Quadric {
             }
         }
         let mut out = [0.0; 20];
-        for (l, x) in crate::cubic::INDICES3.iter().zip(out.iter_mut()) {
-            let [i, j, k] = crate::cubic::arg_vertices(*l);
+        for (&[i, j, k], x) in crate::cubic::ARGS3.iter().zip(out.iter_mut()) {
             *x = (p[i][j] + p[i][k] + p[j][k]) / 3.0;
         }
         out

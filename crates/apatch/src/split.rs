@@ -65,22 +65,25 @@ impl System {
             .position(Option::is_none)
             .expect("the tetrahedra share a face");
         let v = snap_rounding_zeros(exact_barycentric(a, b.vertex(opp)));
-        for lambda in cubic::INDICES3.into_iter().filter(|l| l[opp] <= 1) {
+        for (rank, lambda) in cubic::INDICES3.into_iter().enumerate() {
+            if lambda[opp] > 1 {
+                continue;
+            }
             let mut mu = [0usize; 4];
             for (s, k) in shared.iter().enumerate() {
                 if let Some(k) = k {
                     mu[*k] += lambda[s];
                 }
             }
-            let row = (ib * 20 + cubic::rank3(lambda), 1.0);
+            let row = (ib * 20 + rank, 1.0);
             if lambda[opp] == 0 {
                 self.push([row, (ia * 20 + cubic::rank3(mu), -1.0)], 0.0);
             } else {
-                let terms = (0..4).filter(|&k| v[k] != 0.0).map(|k| {
-                    let mut up = mu;
-                    up[k] += 1;
-                    (ia * 20 + cubic::rank3(up), -v[k])
-                });
+                // μ has degree 2: the ranks of μ + e_k by table.
+                let up = cubic::up_ranks(mu);
+                let terms = (0..4)
+                    .filter(|&k| v[k] != 0.0)
+                    .map(|k| (ia * 20 + up[k], -v[k]));
                 self.push(std::iter::once(row).chain(terms), 0.0);
             }
         }
