@@ -127,7 +127,9 @@ pub(crate) fn nearest_apex(
     // No feasible point is nearer than the farthest half-space, `dist[order[0]]`: a candidate
     // at that distance (to the rounding of the projection, 1e-12 relative) is the optimum, and
     // the enumeration stops there — the common case, one binding condition, after the first
-    // projection instead of all 64 sets. `consider` says whether that happened.
+    // projection instead of all 64 sets. With two or three binding conditions (a symmetric
+    // face, a rim) the enumeration stops at the first feasible projection whose multipliers
+    // are all non-negative, the optimum by KKT. `consider` says whether either happened.
     let mut order: [usize; 7] = std::array::from_fn(|i| i);
     order.sort_by(|&i, &j| dist[j].total_cmp(&dist[i]));
     let lower = dist[order[0]] * (1.0 + 1e-12);
@@ -140,16 +142,25 @@ pub(crate) fn nearest_apex(
         for (slot, &i) in planes.iter_mut().zip(set) {
             *slot = hs[i];
         }
-        let x = if set.is_empty() {
-            DVec3::ZERO
+        let (x, lambda) = if set.is_empty() {
+            (DVec3::ZERO, [0.0; 3])
         } else {
             project(&planes[..set.len()])
         };
-        if x.is_finite() && feasible(x) && x.length() < best_len {
+        if !(x.is_finite() && feasible(x)) {
+            return false;
+        }
+        // Karush–Kuhn–Tucker: a feasible `x = Σ_{i∈S} λ_i a_i` with every `λ_i ≥ 0` and
+        // `a_iᵀx = b_i` on `S` is the minimiser of the convex problem min ‖x‖² subject to
+        // `aᵀx ≥ b` (Nocedal–Wright, Theorem 16.4; the objective is strictly convex, so it is
+        // the only one): stop. A multiplier rounded below zero where the exact one is zero
+        // (a degenerate vertex) only delays the stop; the enumeration still finds the point.
+        let optimal = lambda[..set.len()].iter().all(|&l| l >= 0.0);
+        if x.length() < best_len || optimal {
             best = Some(x);
             best_len = x.length();
         }
-        best_len <= lower
+        optimal || best_len <= lower
     };
     'sets: {
         if consider(&[]) || consider(&[order[0]]) {
@@ -237,8 +248,9 @@ fn least_along(hs: &[HalfSpace; 7], d: DVec3) -> Option<f64> {
     (lo <= hi && lo.is_finite()).then_some(lo)
 }
 
-/// The least-norm `x` with `aᵀx = b` for the given planes (NaN where they are dependent).
-fn project(planes: &[HalfSpace]) -> DVec3 {
+/// The least-norm `x` with `aᵀx = b` for the given planes (NaN where they are dependent) and
+/// its coefficients `λ` in `x = Σ λ_i a_i` (the Lagrange multipliers of the planes).
+fn project(planes: &[HalfSpace]) -> (DVec3, [f64; 3]) {
     // x = Aᵀλ, (A Aᵀ) λ = b: a Gram system of size ≤ 3, solved by Cramer's rule with a
     // relative singularity test (dependent planes give no unique projection; their
     // projection is covered by a smaller set).
@@ -254,14 +266,14 @@ fn project(planes: &[HalfSpace]) -> DVec3 {
     let lambda: [f64; 3] = match k {
         1 => {
             if g[0][0] <= 0.0 {
-                return DVec3::NAN;
+                return (DVec3::NAN, [f64::NAN; 3]);
             }
             [rhs[0] / g[0][0], 0.0, 0.0]
         }
         2 => {
             let det = g[0][0] * g[1][1] - g[0][1] * g[1][0];
             if det.abs() <= 1e-12 * g[0][0] * g[1][1] {
-                return DVec3::NAN;
+                return (DVec3::NAN, [f64::NAN; 3]);
             }
             [
                 (rhs[0] * g[1][1] - g[0][1] * rhs[1]) / det,
@@ -273,22 +285,108 @@ fn project(planes: &[HalfSpace]) -> DVec3 {
             let m = glam::DMat3::from_cols_array_2d(&g).transpose();
             let det = m.determinant();
             if det.abs() <= 1e-12 * g[0][0] * g[1][1] * g[2][2] {
-                return DVec3::NAN;
+                return (DVec3::NAN, [f64::NAN; 3]);
             }
             let l = m.inverse() * DVec3::from_array(rhs);
             l.to_array()
         }
     };
-    planes
+    let x = planes
         .iter()
         .zip(lambda)
-        .fold(DVec3::ZERO, |x, (h, l)| x + l * h.a)
+        .fold(DVec3::ZERO, |x, (h, l)| x + l * h.a);
+    (x, lambda)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::classify::apex_parameters;
+
+    /// The apex the enumeration of every active set gives (the feasible projection of least
+    /// norm), without the early stops: the reference for the stops.
+    fn exhaustive_apex(
+        p: [DVec3; 3],
+        n: [DVec3; 3],
+        nf: DVec3,
+        margin: f64,
+        side: Side,
+    ) -> Option<DVec3> {
+        let hs = half_spaces(p, n, nf, margin, margin, side);
+        let feasible = |x: DVec3| {
+            hs.iter().all(|h| {
+                let scale = h.a.length() * x.length() + h.b.abs();
+                h.a.dot(x) - h.b >= -1e-12 * scale
+            })
+        };
+        let mut sets: Vec<Vec<usize>> = vec![vec![]];
+        for i in 0..7 {
+            sets.push(vec![i]);
+            for j in i + 1..7 {
+                sets.push(vec![i, j]);
+                for k in j + 1..7 {
+                    sets.push(vec![i, j, k]);
+                }
+            }
+        }
+        let c = (p[0] + p[1] + p[2]) / 3.0;
+        sets.iter()
+            .map(|set| {
+                let planes: Vec<HalfSpace> = set.iter().map(|&i| hs[i]).collect();
+                if set.is_empty() {
+                    DVec3::ZERO
+                } else {
+                    project(&planes).0
+                }
+            })
+            .filter(|x| x.is_finite() && feasible(*x))
+            .min_by(|a, b| a.length().total_cmp(&b.length()))
+            .map(|x| c + x)
+    }
+
+    /// The early stops (one binding condition at its distance; a KKT point) give the apex the
+    /// whole enumeration gives, on faces with one, two and three binding conditions:
+    /// regular faces with symmetric normals (three), rims (two) and random ones.
+    #[test]
+    fn early_stops_give_the_least_norm_apex() {
+        let mut rng = algesurf_mesh::test_rng::Lcg(3);
+        let mut worst = 0.0f64;
+        let mut found = 0;
+        for case in 0..600 {
+            let p = if case % 3 == 0 {
+                // Regular, with normals tilted symmetrically away from the centroid.
+                [0.0f64, 1.0, 2.0].map(|k| {
+                    let a = k * std::f64::consts::TAU / 3.0;
+                    DVec3::new(a.cos(), a.sin(), 0.0)
+                })
+            } else {
+                [rng.point(), rng.point(), rng.point()]
+            };
+            let nf = (p[1] - p[0]).cross(p[2] - p[0]);
+            if nf.length() < 1e-3 {
+                continue;
+            }
+            let nf = nf.normalize();
+            let c = (p[0] + p[1] + p[2]) / 3.0;
+            let spread = [0.2, 0.6, 1.2][case % 3];
+            let n = p.map(|x| {
+                let out = (x - c) * spread * (0.5 + rng.next());
+                (nf + out + rng.vec() * 0.3 * (case % 2) as f64).normalize()
+            });
+            let margin = 0.1 * p[0].distance(p[1]);
+            for side in [Side::Positive, Side::Negative] {
+                let fast = nearest_apex(p, n, nf, margin, margin, side);
+                let all = exhaustive_apex(p, n, nf, margin, side);
+                assert_eq!(fast.is_some(), all.is_some(), "case {case} {side:?}");
+                if let (Some(a), Some(b)) = (fast, all) {
+                    found += 1;
+                    worst = worst.max(a.distance(b) / a.distance(c).max(margin));
+                }
+            }
+        }
+        assert!(found > 800, "{found} apexes");
+        assert!(worst < 1e-12, "largest relative distance {worst:e}");
+    }
 
     /// A face along a rim: the corners on the rim edge carry normals 80° from the face
     /// normal, tilted away from the face across that edge.
