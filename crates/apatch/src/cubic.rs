@@ -359,7 +359,10 @@ mod tests {
                 count[s] += 1;
             }
             assert_eq!(&count, l);
-            assert!(args.windows(2).all(|w| w[0] <= w[1]), "{args:?} in vertex order");
+            assert!(
+                args.windows(2).all(|w| w[0] <= w[1]),
+                "{args:?} in vertex order"
+            );
         }
     }
 

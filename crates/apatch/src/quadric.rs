@@ -349,29 +349,36 @@ fn cholesky_upper(g: &[[f64; N]; N]) -> Option<[[f64; N]; N]> {
 /// `R⁻¹` of an upper-triangular `R` by back substitution on the unit vectors, and the bound
 /// `‖R‖_F ‖R⁻¹‖_F ≥ κ₂(R)`; `None` for a zero or non-finite pivot, or a non-finite bound.
 fn inverse_and_condition(r: &[[f64; N]; N]) -> Option<([[f64; N]; N], f64)> {
+    if r.iter()
+        .enumerate()
+        .any(|(i, row)| row[i] == 0.0 || !row[i].is_finite())
+    {
+        return None;
+    }
+    // The pivots' reciprocals once: 10 divisions instead of 55 in the substitution's
+    // dependency chains (each product then rounds twice, a relative 2ε instead of ε per entry,
+    // immaterial to a bound that decides on a factor 100 and a solution corrected afterwards).
+    let recip: [f64; N] = std::array::from_fn(|i| 1.0 / r[i][i]);
     let mut inv = [[0.0f64; N]; N];
     // Column j of R⁻¹: back substitution on e_j (upper triangular, so rows ≤ j only).
     for j in 0..N {
         for i in (0..=j).rev() {
-            let d = r[i][i];
-            if d == 0.0 || !d.is_finite() {
-                return None;
-            }
             let mut s = if i == j { 1.0 } else { 0.0 };
             for k in i + 1..=j {
                 s -= r[i][k] * inv[k][j];
             }
-            inv[i][j] = s / d;
+            inv[i][j] = s * recip[i];
         }
     }
-    let fro = |f: &dyn Fn(usize, usize) -> f64| {
-        (0..N)
-            .flat_map(|i| (i..N).map(move |j| (i, j)))
-            .map(|(i, j)| f(i, j).powi(2))
-            .sum::<f64>()
-            .sqrt()
-    };
-    let cond = fro(&|i, j| r[i][j]) * fro(&|i, j| inv[i][j]);
+    // Frobenius norms of the upper triangles (the rest is zero).
+    let (mut rr, mut ii) = (0.0, 0.0);
+    for i in 0..N {
+        for j in i..N {
+            rr += r[i][j] * r[i][j];
+            ii += inv[i][j] * inv[i][j];
+        }
+    }
+    let cond = rr.sqrt() * ii.sqrt();
     // NaN (an overflowing inverse) fails too.
     (!cond.is_nan()).then_some((inv, cond))
 }
