@@ -106,33 +106,63 @@ pub(crate) fn rank3(l: [usize; 4]) -> usize {
     RANK3[l[0]][l[1]][l[2]]
 }
 
-/// `[rank3(μ + e_0), …, rank3(μ + e_3)]` for a degree-2 index `μ` (by table: [`UP3`] at
-/// `μ`'s rank in degree 2).
-#[inline]
-pub(crate) fn up_ranks(mu: [usize; 4]) -> [usize; 4] {
-    debug_assert_eq!(mu.iter().sum::<usize>(), 2, "a degree-2 index");
-    UP3[RANK2[mu[0]][mu[1]][mu[2]]]
+/// The C0/C1 rows of a join between two tetrahedra A and B sharing a face, in index form
+/// (see `split`'s `System::join`): for every coefficient `λ` of B with `λ_opp ≤ 1`, in storage
+/// order, B's rank and either A's rank of `μ` (the shared part of `λ` in A's indexing; a C0
+/// row, `λ_opp = 0`) or A's ranks of `μ + e_k`, k = 0..3 (a C1 row, `λ_opp = 1`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct JoinPattern {
+    /// A's vertex of each of B's vertices (`None` for the one not shared).
+    pub(crate) shared: [Option<usize>; 4],
+    /// B's vertex not shared with A.
+    pub(crate) opp: usize,
+    /// `(B's rank, C0: Some(A's rank of μ) / C1: None, A's ranks of μ + e_k)`: 10 C0 rows and
+    /// 6 C1 rows, in B's storage order.
+    pub(crate) rows: [(usize, Option<usize>, [usize; 4]); 16],
 }
 
-/// `RANK2[μ_0][μ_1][μ_2]`: the rank of the degree-2 index `(μ_0, μ_1, μ_2, 2 − μ_0 − μ_1 − μ_2)`
-/// (entries with `μ_0 + μ_1 + μ_2 > 2` unused).
-const RANK2: [[[usize; 3]; 3]; 3] = {
-    let mut ranks = [[[0usize; 3]; 3]; 3];
-    let mut a = 0;
-    while a <= 2 {
-        let mut b = 0;
-        while a + b <= 2 {
-            let mut c = 0;
-            while a + b + c <= 2 {
-                ranks[a][b][c] = rank([a, b, c, 2 - a - b - c], 2);
-                c += 1;
-            }
-            b += 1;
+impl JoinPattern {
+    /// The pattern of a join where B's vertex `s` is A's vertex `shared[s]` (`None` for the
+    /// one vertex of B that A lacks).
+    pub(crate) const fn new(shared: [Option<usize>; 4]) -> JoinPattern {
+        let mut opp = 0;
+        while shared[opp].is_some() {
+            opp += 1;
         }
-        a += 1;
+        let mut rows = [(0usize, None, [0usize; 4]); 16];
+        let mut n = 0;
+        let mut r = 0;
+        while r < 20 {
+            let lambda = INDICES3[r];
+            if lambda[opp] <= 1 {
+                let mut mu = [0usize; 4];
+                let mut s = 0;
+                while s < 4 {
+                    if let Some(k) = shared[s] {
+                        mu[k] += lambda[s];
+                    }
+                    s += 1;
+                }
+                if lambda[opp] == 0 {
+                    rows[n] = (r, Some(rank(mu, 3)), [0; 4]);
+                } else {
+                    let mut up = [0usize; 4];
+                    let mut k = 0;
+                    while k < 4 {
+                        let mut l = mu;
+                        l[k] += 1;
+                        up[k] = rank(l, 3);
+                        k += 1;
+                    }
+                    rows[n] = (r, None, up);
+                }
+                n += 1;
+            }
+            r += 1;
+        }
+        JoinPattern { shared, opp, rows }
     }
-    ranks
-};
+}
 
 /// The 20 BB coefficients of a cubic on a tetrahedron.
 pub(crate) type Coeffs = [f64; 20];
@@ -339,15 +369,58 @@ mod tests {
     use super::*;
     use algesurf_bb::{BbPoly, multi_index};
 
+    /// Every row of a join pattern is the rank arithmetic spelled out: B's index `λ`, A's
+    /// shared part `μ`, and `μ + e_k`, for every way two tetrahedra can share a face.
     #[test]
-    fn up_ranks_are_the_ranks_of_the_raised_indices() {
-        for mu in algesurf_bb::multi_index::iter::<4>(2) {
-            let want: [usize; 4] = std::array::from_fn(|k| {
-                let mut l = mu;
-                l[k] += 1;
-                rank3(l)
-            });
-            assert_eq!(up_ranks(mu), want, "{mu:?}");
+    fn join_patterns_are_the_ranks_of_the_shared_indices() {
+        for opp in 0..4 {
+            for perm in [
+                [0, 1, 2],
+                [0, 2, 1],
+                [1, 0, 2],
+                [1, 2, 0],
+                [2, 0, 1],
+                [2, 1, 0],
+            ] {
+                for missing in 0..4 {
+                    // A's vertices other than `missing`, assigned to B's shared ones.
+                    let others: Vec<usize> = (0..4).filter(|&k| k != missing).collect();
+                    let mut shared = [None; 4];
+                    let mut next = perm.iter().map(|&i| others[i]);
+                    for (s, slot) in shared.iter_mut().enumerate() {
+                        if s != opp {
+                            *slot = next.next();
+                        }
+                    }
+                    let pattern = JoinPattern::new(shared);
+                    assert_eq!(pattern.opp, opp);
+                    let mut rows = pattern.rows.iter();
+                    for (r, lambda) in INDICES3.iter().enumerate() {
+                        if lambda[opp] > 1 {
+                            continue;
+                        }
+                        let &(rank, c0, up) = rows.next().expect("16 rows");
+                        assert_eq!(rank, r);
+                        let mut mu = [0usize; 4];
+                        for (s, k) in shared.iter().enumerate() {
+                            if let Some(k) = k {
+                                mu[*k] += lambda[s];
+                            }
+                        }
+                        if lambda[opp] == 0 {
+                            assert_eq!(c0, Some(rank3(mu)), "{shared:?} {lambda:?}");
+                        } else {
+                            assert_eq!(c0, None);
+                            for (k, &u) in up.iter().enumerate() {
+                                let mut l = mu;
+                                l[k] += 1;
+                                assert_eq!(u, rank3(l), "{shared:?} {lambda:?} + e_{k}");
+                            }
+                        }
+                    }
+                    assert!(rows.next().is_none());
+                }
+            }
         }
     }
 

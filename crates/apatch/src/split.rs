@@ -19,7 +19,7 @@
 //! `b t²` lifting for the single-sheet bound.
 
 use crate::constrained::{System, solve};
-use crate::cubic;
+use crate::cubic::{self, JoinPattern};
 use crate::geometry::{add_apex_square, exact_barycentric, foot, snap_rounding_zeros};
 use crate::{ApatchError, Quadric, VertexData};
 use algesurf_bb::{BbPoly, Tetrahedron};
@@ -46,45 +46,41 @@ pub struct SplitFace {
     pub constraint_residual: f64,
 }
 
+/// The joins of a split face's sub-tetrahedra, which share their faces in a fixed way
+/// (sub-tetrahedron `a` of a side is `[p_{a+1}, p_{a+2}, c, apex]`):
+/// * around one side, sub-tetrahedron `a` and `a + 1` share `[p_{a+2}, c, apex]`: the next
+///   one's vertices 0, 2, 3 are this one's 1, 2, 3, and its vertex 1 (`p_a`) is new;
+/// * across the face, the two sides' sub-tetrahedra `a` share `[p_{a+1}, p_{a+2}, c]`, and
+///   only the apex (vertex 3) differs.
+const AROUND_A_SIDE: JoinPattern = JoinPattern::new([Some(1), None, Some(2), Some(3)]);
+const ACROSS_THE_FACE: JoinPattern = JoinPattern::new([Some(0), Some(1), Some(2), None]);
+
 impl System {
-    /// C0 and C1 between tetrahedra `ia` and `ib` (indices into `tets`), which share a face:
-    /// every coefficient of B with `λ_opp ≤ 1` equals A's continuation (Lemma 2.2), the
-    /// blossom of A at B's vertices. The shared vertices are exact unit vectors in A's
-    /// coordinates (`exact_barycentric`), so the blossom needs no general weights: a C0 row
-    /// (`λ_opp = 0`) says that B's coefficient equals A's coefficient of the same shared
-    /// vertices' powers, and a C1 row (`λ_opp = 1`) is one de Casteljau step,
+    /// C0 and C1 between tetrahedra `ia` and `ib` (indices into `tets`), which share a face
+    /// as `pattern` says: every coefficient of B with `λ_opp ≤ 1` equals A's continuation
+    /// (Lemma 2.2), the blossom of A at B's vertices. The shared vertices are exact unit
+    /// vectors in A's coordinates (`exact_barycentric`), so the blossom needs no general
+    /// weights: a C0 row (`λ_opp = 0`) says that B's coefficient equals A's coefficient of the
+    /// same shared vertices' powers, and a C1 row (`λ_opp = 1`) is one de Casteljau step,
     /// `b_λ = Σ_k v_k a_{μ + e_k}` with `μ` the shared part of `λ` in A's indexing and `v`
     /// B's opposite vertex in A's coordinates (snapped, `snap_rounding_zeros`).
-    fn join(&mut self, tets: &[Tetrahedron], ia: usize, ib: usize) {
+    fn join(&mut self, tets: &[Tetrahedron], ia: usize, ib: usize, pattern: &JoinPattern) {
         let (a, b) = (&tets[ia], &tets[ib]);
-        // A's vertex index of each of B's vertices, `None` for the one not shared.
-        let shared: [Option<usize>; 4] =
-            std::array::from_fn(|s| (0..4).find(|&k| a.vertex(k) == b.vertex(s)));
-        let opp = shared
-            .iter()
-            .position(Option::is_none)
-            .expect("the tetrahedra share a face");
-        let v = snap_rounding_zeros(exact_barycentric(a, b.vertex(opp)));
-        for (rank, lambda) in cubic::INDICES3.into_iter().enumerate() {
-            if lambda[opp] > 1 {
-                continue;
-            }
-            let mut mu = [0usize; 4];
-            for (s, k) in shared.iter().enumerate() {
-                if let Some(k) = k {
-                    mu[*k] += lambda[s];
-                }
-            }
+        debug_assert!(
+            (0..4).all(|s| (0..4).find(|&k| a.vertex(k) == b.vertex(s)) == pattern.shared[s]),
+            "the tetrahedra share the pattern's face"
+        );
+        let v = snap_rounding_zeros(exact_barycentric(a, b.vertex(pattern.opp)));
+        for &(rank, c0, up) in &pattern.rows {
             let row = (ib * 20 + rank, 1.0);
-            if lambda[opp] == 0 {
-                self.push([row, (ia * 20 + cubic::rank3(mu), -1.0)], 0.0);
-            } else {
-                // μ has degree 2: the ranks of μ + e_k by table.
-                let up = cubic::up_ranks(mu);
-                let terms = (0..4)
-                    .filter(|&k| v[k] != 0.0)
-                    .map(|k| (ia * 20 + up[k], -v[k]));
-                self.push(std::iter::once(row).chain(terms), 0.0);
+            match c0 {
+                Some(mu) => self.push([row, (ia * 20 + mu, -1.0)], 0.0),
+                None => {
+                    let terms = (0..4)
+                        .filter(|&k| v[k] != 0.0)
+                        .map(|k| (ia * 20 + up[k], -v[k]));
+                    self.push(std::iter::once(row).chain(terms), 0.0);
+                }
             }
         }
     }
@@ -201,13 +197,13 @@ fn constraints(
         }
         // C1 across the internal faces [p_v, c, apex] of this side.
         for a in 0..3 {
-            sys.join(&tets, t0 + a, t0 + (a + 1) % 3);
+            sys.join(&tets, t0 + a, t0 + (a + 1) % 3, &AROUND_A_SIDE);
         }
     }
     // C1 across the sub-triangles of the face between the two sides.
     if apexes.len() == 2 {
         for a in 0..3 {
-            sys.join(&tets, a, 3 + a);
+            sys.join(&tets, a, 3 + a, &ACROSS_THE_FACE);
         }
     }
     // Target: the local quadric family Q + (f − Q(apex)) τ_apex², per sub-tetrahedron
