@@ -107,7 +107,12 @@ pub(crate) fn nearest_apex(
     side: Side,
 ) -> Option<DVec3> {
     let c = (p[0] + p[1] + p[2]) / 3.0;
-    let hs = half_spaces(p, n, face_normal, margin, height, side);
+    nearest_in(&half_spaces(p, n, face_normal, margin, height, side)).map(|x| c + x)
+}
+
+/// The least-norm point of the half-spaces `hs` (offsets from the centroid; see
+/// [`nearest_apex`]), `None` when no candidate passes the feasibility check.
+fn nearest_in(hs: &[HalfSpace; 7]) -> Option<DVec3> {
     // Feasibility slack: rounding of aᵀx − b, relative to the terms' size.
     let norm: [f64; 7] = std::array::from_fn(|i| hs[i].a.length());
     let feasible = |x: DVec3| {
@@ -182,7 +187,7 @@ pub(crate) fn nearest_apex(
             }
         }
     }
-    best.map(|x| c + x)
+    best
 }
 
 /// The apexes `(u, v)` of a nonconvex face, which has both: each at the smallest distance
@@ -206,17 +211,20 @@ pub(crate) fn nearest_apex_pair(
     let c = (p[0] + p[1] + p[2]) / 3.0;
     let pos = half_spaces(p, n, face_normal, margin, height, Side::Positive);
     let neg = half_spaces(p, n, face_normal, margin, height, Side::Negative);
-    let mut dirs = vec![face_normal];
-    for (side, hs) in [(Side::Positive, 1.0), (Side::Negative, -1.0)] {
-        if let Some(w) = nearest_apex(p, n, face_normal, margin, height, side) {
-            let d = hs * (w - c);
+    let mut dirs = [face_normal; 3];
+    let mut count = 1;
+    for (hs, sign) in [(&pos, 1.0), (&neg, -1.0)] {
+        if let Some(x) = nearest_in(hs) {
+            // The same offset `(c + x) − c` as through `nearest_apex`, bit for bit.
+            let d = sign * ((c + x) - c);
             if d.dot(face_normal) > 0.0 {
-                dirs.push(d.normalize());
+                dirs[count] = d.normalize();
+                count += 1;
             }
         }
     }
     let mut best: Option<(f64, DVec3, DVec3)> = None;
-    for d in dirs {
+    for &d in &dirs[..count] {
         let (Some(tu), Some(tv)) = (least_along(&pos, d), least_along(&neg, -d)) else {
             continue;
         };
