@@ -111,10 +111,7 @@ pub fn lemma_2_3_b_min(b: [f64; 4], beta: f64) -> Result<LiftBound, BbError> {
     let b2m = 2.0 * (b[1] - b[0]);
     let b3m = 3.0 * (b[1] - b[0]);
     let d3m = b[3] - 3.0 * b[2] + 3.0 * b[1] - b[0];
-    let mut crit2 = Vec::new();
-    if b2m != 0.0 {
-        crit2.push(-2.0 * a0 / b2m);
-    }
+    let crit2 = (b2m != 0.0).then(|| -2.0 * a0 / b2m);
     // h_3(t) = D t³ − B₃ t − 2A in Bernstein form (monomial → Bernstein of degree 3:
     // c_k = Σ_{i≤k} C(k,i)/C(3,i) m_i, Farin 1990 §5.7).
     let m = [-2.0 * a0, -b3m, 0.0, d3m];
@@ -139,7 +136,7 @@ pub fn lemma_2_3_b_min(b: [f64; 4], beta: f64) -> Result<LiftBound, BbError> {
     let inside = |t: &f64| *t > 0.0 && *t <= 1.0;
     let mut best1 = (f64::INFINITY, 1.0);
     for t in std::iter::once(1.0)
-        .chain(crit2.iter().copied())
+        .chain(crit2)
         .chain(crit3.iter().copied())
         .chain(crossings.iter().copied())
         .filter(inside)
