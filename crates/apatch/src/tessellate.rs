@@ -253,6 +253,11 @@ impl ApatchSurface {
                 }
             })
             .unzip_into_vecs(&mut flags, &mut owner);
+        // The rays have been read out: their ~50 MB (the bunny at 3 × 2) go back to the
+        // allocator before the triangles' buffers are taken, which can then reuse them
+        // instead of fresh pages.
+        drop(face_rays);
+        drop(edge_rays);
         // In vertex order, like the vertices that carry them.
         let mut missed_rays = Vec::new();
         let mut multiple_roots = Vec::new();
