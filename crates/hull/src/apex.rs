@@ -110,18 +110,22 @@ pub(crate) fn nearest_apex(
     nearest_in(&half_spaces(p, n, face_normal, margin, height, side)).map(|x| c + x)
 }
 
+/// Whether `x` lies in every half-space of `hs` (`norm[i] = |a_i|`), up to the rounding of
+/// `aᵀx − b`: a slack of 1e-12 of the terms' size.
+fn feasible_in(hs: &[HalfSpace; 7], norm: &[f64; 7], x: DVec3) -> bool {
+    let len = x.length();
+    hs.iter().zip(norm).all(|(h, an)| {
+        let scale = an * len + h.b.abs();
+        h.a.dot(x) - h.b >= -1e-12 * scale
+    })
+}
+
 /// The least-norm point of the half-spaces `hs` (offsets from the centroid; see
 /// [`nearest_apex`]), `None` when no candidate passes the feasibility check.
 fn nearest_in(hs: &[HalfSpace; 7]) -> Option<DVec3> {
     // Feasibility slack: rounding of aᵀx − b, relative to the terms' size.
     let norm: [f64; 7] = std::array::from_fn(|i| hs[i].a.length());
-    let feasible = |x: DVec3| {
-        let len = x.length();
-        hs.iter().zip(&norm).all(|(h, an)| {
-            let scale = an * len + h.b.abs();
-            h.a.dot(x) - h.b >= -1e-12 * scale
-        })
-    };
+    let feasible = |x: DVec3| feasible_in(hs, &norm, x);
     // d_i: the distance from 0 (the centroid) to half-space i. Every feasible point is at
     // least max_i d_i away, and the projection onto a set S of planes at least max_{i∈S} d_i:
     // a set whose bound is no better than the best feasible point so far is skipped. The
@@ -311,22 +315,12 @@ mod tests {
     use super::*;
     use crate::classify::apex_parameters;
 
-    /// The apex the enumeration of every active set gives (the feasible projection of least
-    /// norm), without the early stops: the reference for the stops.
-    fn exhaustive_apex(
-        p: [DVec3; 3],
-        n: [DVec3; 3],
-        nf: DVec3,
-        margin: f64,
-        side: Side,
-    ) -> Option<DVec3> {
-        let hs = half_spaces(p, n, nf, margin, margin, side);
-        let feasible = |x: DVec3| {
-            hs.iter().all(|h| {
-                let scale = h.a.length() * x.length() + h.b.abs();
-                h.a.dot(x) - h.b >= -1e-12 * scale
-            })
-        };
+    /// The least-norm point of `hs` that the enumeration of every active set gives (the
+    /// feasible projection of least norm), without the early stops: the reference for the
+    /// stops.
+    fn exhaustive_in(hs: &[HalfSpace; 7]) -> Option<DVec3> {
+        let norm: [f64; 7] = std::array::from_fn(|i| hs[i].a.length());
+        let feasible = |x: DVec3| feasible_in(hs, &norm, x);
         let mut sets: Vec<Vec<usize>> = vec![vec![]];
         for i in 0..7 {
             sets.push(vec![i]);
@@ -337,7 +331,6 @@ mod tests {
                 }
             }
         }
-        let c = (p[0] + p[1] + p[2]) / 3.0;
         sets.iter()
             .map(|set| {
                 let planes: Vec<HalfSpace> = set.iter().map(|&i| hs[i]).collect();
@@ -349,7 +342,6 @@ mod tests {
             })
             .filter(|x| x.is_finite() && feasible(*x))
             .min_by(|a, b| a.length().total_cmp(&b.length()))
-            .map(|x| c + x)
     }
 
     /// The early stops (one binding condition at its distance; a KKT point) give the apex the
@@ -383,8 +375,11 @@ mod tests {
             });
             let margin = 0.1 * p[0].distance(p[1]);
             for side in [Side::Positive, Side::Negative] {
-                let fast = nearest_apex(p, n, nf, margin, margin, side);
-                let all = exhaustive_apex(p, n, nf, margin, side);
+                let hs = half_spaces(p, n, nf, margin, margin, side);
+                let (fast, all) = (
+                    nearest_in(&hs).map(|x| c + x),
+                    exhaustive_in(&hs).map(|x| c + x),
+                );
                 assert_eq!(fast.is_some(), all.is_some(), "case {case} {side:?}");
                 if let (Some(a), Some(b)) = (fast, all) {
                     found += 1;
