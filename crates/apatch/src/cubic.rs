@@ -374,14 +374,10 @@ mod tests {
     #[test]
     fn join_patterns_are_the_ranks_of_the_shared_indices() {
         for opp in 0..4 {
-            for perm in [
-                [0, 1, 2],
-                [0, 2, 1],
-                [1, 0, 2],
-                [1, 2, 0],
-                [2, 0, 1],
-                [2, 1, 0],
-            ] {
+            let perms = (0..27)
+                .map(|x: usize| [x / 9, x / 3 % 3, x % 3])
+                .filter(|p| p[0] != p[1] && p[1] != p[2] && p[0] != p[2]);
+            for perm in perms {
                 for missing in 0..4 {
                     // A's vertices other than `missing`, assigned to B's shared ones.
                     let others: Vec<usize> = (0..4).filter(|&k| k != missing).collect();
