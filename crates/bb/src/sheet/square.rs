@@ -88,6 +88,18 @@ fn restrict1(b: [f64; 4], lo: f64, hi: f64) -> [f64; 4] {
 /// Least and largest BB coefficient of `c` over the rectangle `[x0, x1] × [y0, y1]`: bounds of
 /// the polynomial there (convex-hull property).
 fn range_over(c: &Tensor3, x: [f64; 2], y: [f64; 2]) -> (f64, f64) {
+    // The whole square (the branch and bound's root cell, where most edges' bounds are
+    // decided): every de Casteljau step of the restriction has t = 0 or t = 1, which returns
+    // one of its two finite inputs exactly (`1·a + 0·b`, `0·a + 1·b`; only the sign of a zero
+    // can differ, and no comparison below tells them apart), so the coefficients are `c`'s.
+    if x == [0.0, 1.0] && y == [0.0, 1.0] && c.iter().flatten().all(|v| v.is_finite()) {
+        return c
+            .iter()
+            .flatten()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
+                (lo.min(v), hi.max(v))
+            });
+    }
     let rows: [[f64; 4]; 4] = std::array::from_fn(|i| restrict1(c[i], y[0], y[1]));
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
     for j in 0..4 {
@@ -315,6 +327,36 @@ mod tests {
             let (s, t) = (k as f64 / 49.0, r.next());
             let v = tensor3_value(&c, x[0] + s * (x[1] - x[0]), y[0] + t * (y[1] - y[0]));
             assert!(lo <= v && v <= hi);
+        }
+    }
+
+    /// On the whole square the range is the coefficients' own, which is what the restriction
+    /// gives there, value for value (zeros of either sign included in the draws).
+    #[test]
+    fn whole_square_range_is_the_restrictions() {
+        let mut r = Lcg(5);
+        for case in 0..200 {
+            let c: Tensor3 = std::array::from_fn(|_| {
+                std::array::from_fn(|_| match (r.next() * 8.0) as u32 {
+                    0 => 0.0,
+                    1 => -0.0,
+                    _ => (r.next() - 0.5) * 10f64.powi(case % 7 - 3),
+                })
+            });
+            let rows: [[f64; 4]; 4] = std::array::from_fn(|i| restrict1(c[i], 0.0, 1.0));
+            let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+            for j in 0..4 {
+                for v in restrict1([rows[0][j], rows[1][j], rows[2][j], rows[3][j]], 0.0, 1.0) {
+                    lo = lo.min(v);
+                    hi = hi.max(v);
+                }
+            }
+            let fast = range_over(&c, [0.0, 1.0], [0.0, 1.0]);
+            assert!(
+                fast.0 == lo && fast.1 == hi,
+                "case {case}: {fast:?} vs {:?}",
+                (lo, hi)
+            );
         }
     }
 
