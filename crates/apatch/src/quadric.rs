@@ -74,28 +74,11 @@ impl Quadric {
     /// is. Rank deficiency (e.g. all points coplanar, where `Q + c L²` fit equally well) is
     /// resolved by the minimum-norm solution of the scaled problem, which adds no `L²` term.
     pub fn fit(samples: &[(DVec3, DVec3)]) -> Result<Quadric, ApatchError> {
-        if samples.len() < 3 {
-            return Err(ApatchError::Degenerate(format!(
-                "a quadric fit needs at least 3 points, got {}",
-                samples.len()
-            )));
-        }
-        let centre = samples.iter().map(|s| s.0).sum::<DVec3>() / samples.len() as f64;
-        let h = samples
-            .iter()
-            .map(|s| s.0.distance(centre))
-            .fold(0.0, f64::max);
-        if !(h > 0.0 && h.is_finite()) {
-            return Err(ApatchError::Degenerate(
-                "quadric fit to coincident points".into(),
-            ));
-        }
-        // Local coordinates y = (x − centre)/h; Q(x) = h·q(y) with
-        // q(y) = Σ_{k≤l} a_kl y_k y_l + Σ b_k y_k + c (10 unknowns), so ∇_x Q = ∇_y q.
-        if let Some(q) = seminormal_solve(samples, centre, h) {
+        let (local, centre, h) = local_samples(samples)?;
+        if let Some(q) = seminormal_solve(&local) {
             return Ok(Quadric::from_local(&q, centre, h));
         }
-        let q = qr_solve(samples, centre, h)?;
+        let q = qr_solve(&local)?;
         Ok(Quadric::from_local(&q, centre, h))
     }
 
@@ -124,16 +107,48 @@ impl Quadric {
     }
 }
 
+/// One sample of a fit in local coordinates: `y = (x − centre)/h` and the gradient `N`.
+type LocalSample = ([f64; 3], [f64; 3]);
+
+/// The samples in local coordinates `y = (x − centre)/h` about their centroid, scaled by the
+/// largest distance `h` from it, with that centre and `h`. In them `Q(x) = h·q(y)` with
+/// `q(y) = Σ_{k≤l} a_kl y_k y_l + Σ b_k y_k + c` (10 unknowns), so `∇_x Q = ∇_y q`.
+fn local_samples(
+    samples: &[(DVec3, DVec3)],
+) -> Result<(Vec<LocalSample>, DVec3, f64), ApatchError> {
+    if samples.len() < 3 {
+        return Err(ApatchError::Degenerate(format!(
+            "a quadric fit needs at least 3 points, got {}",
+            samples.len()
+        )));
+    }
+    let centre = samples.iter().map(|s| s.0).sum::<DVec3>() / samples.len() as f64;
+    let h = samples
+        .iter()
+        .map(|s| s.0.distance(centre))
+        .fold(0.0, f64::max);
+    if !(h > 0.0 && h.is_finite()) {
+        return Err(ApatchError::Degenerate(
+            "quadric fit to coincident points".into(),
+        ));
+    }
+    let local = samples
+        .iter()
+        .map(|(x, n)| (((*x - centre) / h).to_array(), n.to_array()))
+        .collect();
+    Ok((local, centre, h))
+}
+
 /// The fit's least-squares solution (unknowns as in [`Quadric::from_local`]) by Householder QR,
 /// then back substitution when `R` is well conditioned and the minimum-norm SVD solution
 /// otherwise: the general path, for fits the semi-normal equations do not certify.
-fn qr_solve(samples: &[(DVec3, DVec3)], centre: DVec3, h: f64) -> Result<[f64; N], ApatchError> {
+fn qr_solve(local: &[LocalSample]) -> Result<[f64; N], ApatchError> {
     // Column-major, 4 rows (value, three gradient components) per sample.
-    let rows = samples.len() * 4;
+    let rows = local.len() * 4;
     let mut m = vec![0.0; rows * N];
     let mut r = vec![0.0; rows];
-    for (s, (x, n)) in samples.iter().enumerate() {
-        let (value, gradient) = sample_rows(((*x - centre) / h).to_array());
+    for (s, (y, n)) in local.iter().enumerate() {
+        let (value, gradient) = sample_rows(*y);
         let row = 4 * s;
         for (k, v) in value.into_iter().enumerate() {
             m[k * rows + row] = v;
@@ -143,7 +158,7 @@ fn qr_solve(samples: &[(DVec3, DVec3)], centre: DVec3, h: f64) -> Result<[f64; N
                 m[k * rows + row + 1 + d] = v;
             }
         }
-        r[row + 1..row + 4].copy_from_slice(&n.to_array());
+        r[row + 1..row + 4].copy_from_slice(n);
     }
     // Householder QR first (`m = Q R`, Q with 10 orthonormal columns): then
     // `‖m x − r‖² = ‖R x − Qᵀr‖² + ‖(I − QQᵀ) r‖²`, so the minimum-norm least-squares
@@ -236,11 +251,11 @@ fn sample_rows(y: [f64; 3]) -> ([f64; N], [[(usize, f64); 4]; 3]) {
     (value, gradient)
 }
 
-/// `Mᵀ s` of the fit's matrix `M` (rows of [`sample_rows`] at `ys`) and residual `s`, four
-/// entries per sample (value, three gradient components).
-fn transpose_times(ys: &[[f64; 3]], s: &[f64]) -> [f64; N] {
+/// `Mᵀ s` of the fit's matrix `M` (rows of [`sample_rows`] at the samples' `y`) and residual
+/// `s`, four entries per sample (value, three gradient components).
+fn transpose_times(local: &[LocalSample], s: &[f64]) -> [f64; N] {
     let mut out = [0.0; N];
-    for (y, s) in ys.iter().zip(s.chunks_exact(4)) {
+    for ((y, _), s) in local.iter().zip(s.chunks_exact(4)) {
         let (value, gradient) = sample_rows(*y);
         for (o, v) in out.iter_mut().zip(value) {
             *o += v * s[0];
@@ -270,19 +285,15 @@ fn transpose_times(ys: &[[f64; 3]], s: &[f64]) -> [f64; N] {
 /// Why: `M` has four rows per sample but the gradient rows have four non-zeros each, so
 /// `MᵀM` costs ~85 products per sample against ~800 for Householder's reflections of the dense
 /// 4k × 10 matrix; fitting was 7 % of `algesurf smooth`'s samples on the bunny.
-fn seminormal_solve(samples: &[(DVec3, DVec3)], centre: DVec3, h: f64) -> Option<[f64; N]> {
-    let ys: Vec<[f64; 3]> = samples
+fn seminormal_solve(local: &[LocalSample]) -> Option<[f64; N]> {
+    // The right-hand side: 0 for the value rows, the gradient for the gradient rows.
+    let r: Vec<f64> = local
         .iter()
-        .map(|s| ((s.0 - centre) / h).to_array())
+        .flat_map(|(_, n)| [0.0, n[0], n[1], n[2]])
         .collect();
-    let mut r = Vec::with_capacity(4 * samples.len());
-    for s in samples {
-        r.push(0.0);
-        r.extend_from_slice(&s.1.to_array());
-    }
     // Upper triangle of the Gram matrix MᵀM.
     let mut gram = [[0.0f64; N]; N];
-    for y in &ys {
+    for (y, _) in local {
         let (value, gradient) = sample_rows(*y);
         for i in 0..N {
             for j in i..N {
@@ -308,10 +319,11 @@ fn seminormal_solve(samples: &[(DVec3, DVec3)], centre: DVec3, h: f64) -> Option
         let w: [f64; N] = std::array::from_fn(|i| (0..=i).map(|k| inv[k][i] * z[k]).sum());
         std::array::from_fn(|i| (i..N).map(|k| inv[i][k] * w[k]).sum())
     };
-    let mut x = normal_solve(transpose_times(&ys, &r));
+    let mut x = normal_solve(transpose_times(local, &r));
     // The residual r − M x₀, and the correction.
-    let residual: Vec<f64> = ys
+    let residual: Vec<f64> = local
         .iter()
+        .map(|(y, _)| y)
         .zip(r.chunks_exact(4))
         .flat_map(|(y, rs)| {
             let (value, gradient) = sample_rows(*y);
@@ -322,7 +334,7 @@ fn seminormal_solve(samples: &[(DVec3, DVec3)], centre: DVec3, h: f64) -> Option
             [v, g[0], g[1], g[2]]
         })
         .collect();
-    let dx = normal_solve(transpose_times(&ys, &residual));
+    let dx = normal_solve(transpose_times(local, &residual));
     for (xi, d) in x.iter_mut().zip(dx) {
         *xi += d;
     }
@@ -447,10 +459,9 @@ mod tests {
             let spread = [0.1, 0.3, 0.6][case % 3];
             let noise = [0.0, 1e-3, 0.1][(case / 3) % 3];
             let s = neighbourhood(&mut rng, origin, k, spread, noise);
-            let centre = s.iter().map(|x| x.0).sum::<DVec3>() / k as f64;
-            let h = s.iter().map(|x| x.0.distance(centre)).fold(0.0, f64::max);
-            let qr = qr_solve(&s, centre, h).unwrap();
-            if let Some(fast) = seminormal_solve(&s, centre, h) {
+            let (local, _, _) = local_samples(&s).unwrap();
+            let qr = qr_solve(&local).unwrap();
+            if let Some(fast) = seminormal_solve(&local) {
                 taken += 1;
                 let size = qr.iter().fold(0.0f64, |m, x| m.max(x.abs()));
                 for (a, b) in fast.iter().zip(&qr) {
@@ -479,17 +490,11 @@ mod tests {
         ]
         .map(|p| (p, DVec3::Z))
         .to_vec();
-        let centre = coplanar.iter().map(|x| x.0).sum::<DVec3>() / 4.0;
-        assert!(seminormal_solve(&coplanar, centre, 1.0).is_none());
+        assert!(seminormal_solve(&local_samples(&coplanar).unwrap().0).is_none());
         // A patch so small that its curvature is barely visible: κ(M) far above 1e4.
         let mut rng = algesurf_mesh::test_rng::Lcg(5);
         let tiny = neighbourhood(&mut rng, DVec3::ZERO, 12, 1e-4, 0.0);
-        let centre = tiny.iter().map(|x| x.0).sum::<DVec3>() / 12.0;
-        let h = tiny
-            .iter()
-            .map(|x| x.0.distance(centre))
-            .fold(0.0, f64::max);
-        assert!(seminormal_solve(&tiny, centre, h).is_none());
+        assert!(seminormal_solve(&local_samples(&tiny).unwrap().0).is_none());
     }
 
     #[test]
