@@ -116,9 +116,17 @@ pub(crate) struct JoinPattern {
     pub(crate) shared: [Option<usize>; 4],
     /// B's vertex not shared with A.
     pub(crate) opp: usize,
-    /// `(B's rank, C0: Some(A's rank of μ) / C1: None, A's ranks of μ + e_k)`: 10 C0 rows and
-    /// 6 C1 rows, in B's storage order.
-    pub(crate) rows: [(usize, Option<usize>, [usize; 4]); 16],
+    /// `(B's rank, the row)`: 10 C0 rows and 6 C1 rows, in B's storage order.
+    pub(crate) rows: [(usize, JoinRow); 16],
+}
+
+/// What B's coefficient `λ` equals in a join ([`JoinPattern`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum JoinRow {
+    /// `λ_opp = 0`: A's coefficient at this rank (of `μ`, the shared part of `λ`).
+    C0(usize),
+    /// `λ_opp = 1`: `Σ_k v_k a_{μ + e_k}`, A's ranks of `μ + e_k` for k = 0..3.
+    C1([usize; 4]),
 }
 
 impl JoinPattern {
@@ -129,7 +137,7 @@ impl JoinPattern {
         while shared[opp].is_some() {
             opp += 1;
         }
-        let mut rows = [(0usize, None, [0usize; 4]); 16];
+        let mut rows = [(0usize, JoinRow::C0(0)); 16];
         let mut n = 0;
         let mut r = 0;
         while r < 20 {
@@ -144,7 +152,7 @@ impl JoinPattern {
                     s += 1;
                 }
                 if lambda[opp] == 0 {
-                    rows[n] = (r, Some(rank(mu, 3)), [0; 4]);
+                    rows[n] = (r, JoinRow::C0(rank(mu, 3)));
                 } else {
                     let mut up = [0usize; 4];
                     let mut k = 0;
@@ -154,7 +162,7 @@ impl JoinPattern {
                         up[k] = rank(l, 3);
                         k += 1;
                     }
-                    rows[n] = (r, None, up);
+                    rows[n] = (r, JoinRow::C1(up));
                 }
                 n += 1;
             }
@@ -395,7 +403,7 @@ mod tests {
                         if lambda[opp] > 1 {
                             continue;
                         }
-                        let &(rank, c0, up) = rows.next().expect("16 rows");
+                        let &(rank, row) = rows.next().expect("16 rows");
                         assert_eq!(rank, r);
                         let mut mu = [0usize; 4];
                         for (s, k) in shared.iter().enumerate() {
@@ -404,9 +412,11 @@ mod tests {
                             }
                         }
                         if lambda[opp] == 0 {
-                            assert_eq!(c0, Some(rank3(mu)), "{shared:?} {lambda:?}");
+                            assert_eq!(row, JoinRow::C0(rank3(mu)), "{shared:?} {lambda:?}");
                         } else {
-                            assert_eq!(c0, None);
+                            let JoinRow::C1(up) = row else {
+                                panic!("{shared:?} {lambda:?}: a C1 row");
+                            };
                             for (k, &u) in up.iter().enumerate() {
                                 let mut l = mu;
                                 l[k] += 1;

@@ -19,7 +19,7 @@
 //! `b t²` lifting for the single-sheet bound.
 
 use crate::constrained::{System, solve};
-use crate::cubic::{self, JoinPattern};
+use crate::cubic::{self, JoinPattern, JoinRow};
 use crate::geometry::{add_apex_square, exact_barycentric, foot, snap_rounding_zeros};
 use crate::{ApatchError, Quadric, VertexData};
 use algesurf_bb::{BbPoly, Tetrahedron};
@@ -71,11 +71,11 @@ impl System {
             "the tetrahedra share the pattern's face"
         );
         let v = snap_rounding_zeros(exact_barycentric(a, b.vertex(pattern.opp)));
-        for &(rank, c0, up) in &pattern.rows {
+        for &(rank, join_row) in &pattern.rows {
             let row = (ib * 20 + rank, 1.0);
-            match c0 {
-                Some(mu) => self.push([row, (ia * 20 + mu, -1.0)], 0.0),
-                None => {
+            match join_row {
+                JoinRow::C0(mu) => self.push([row, (ia * 20 + mu, -1.0)], 0.0),
+                JoinRow::C1(up) => {
                     let terms = (0..4)
                         .filter(|&k| v[k] != 0.0)
                         .map(|k| (ia * 20 + up[k], -v[k]));
