@@ -100,6 +100,11 @@ fn range_over(c: &Tensor3, x: [f64; 2], y: [f64; 2]) -> (f64, f64) {
                 (lo.min(v), hi.max(v))
             });
     }
+    restricted_range(c, x, y)
+}
+
+/// [`range_over`] by restricting `c` to the rectangle (the general path).
+fn restricted_range(c: &Tensor3, x: [f64; 2], y: [f64; 2]) -> (f64, f64) {
     let rows: [[f64; 4]; 4] = std::array::from_fn(|i| restrict1(c[i], y[0], y[1]));
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
     for j in 0..4 {
@@ -343,14 +348,7 @@ mod tests {
                     _ => (r.next() - 0.5) * 10f64.powi(case % 7 - 3),
                 })
             });
-            let rows: [[f64; 4]; 4] = std::array::from_fn(|i| restrict1(c[i], 0.0, 1.0));
-            let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-            for j in 0..4 {
-                for v in restrict1([rows[0][j], rows[1][j], rows[2][j], rows[3][j]], 0.0, 1.0) {
-                    lo = lo.min(v);
-                    hi = hi.max(v);
-                }
-            }
+            let (lo, hi) = restricted_range(&c, [0.0, 1.0], [0.0, 1.0]);
             let fast = range_over(&c, [0.0, 1.0], [0.0, 1.0]);
             assert!(
                 fast.0 == lo && fast.1 == hi,
