@@ -6,8 +6,8 @@ use crate::classify::{
 };
 use crate::{ApexPlacement, HullError, HullOptions};
 use algesurf_bb::Tetrahedron;
+use algesurf_mesh::TriMesh;
 use algesurf_mesh::parallel::{collect_first_error, collect_first_error_into};
-use algesurf_mesh::{Topology, TriMesh};
 use glam::DVec3;
 use rayon::prelude::*;
 
@@ -167,106 +167,267 @@ pub(crate) fn check_input(mesh: &TriMesh, normals: &[DVec3]) -> Result<(), HullE
     Ok(())
 }
 
-/// The faces and edges of the previous refinement round, for [`build`] to reuse (and, for
-/// the faces, to update in place).
-///
-/// Refinement splits faces in place and appends the new halves (`EditMesh::split_edge`), so a
-/// face id that survives a round with the same corners is the same triangle: same positions,
-/// same normals (refinement only appends vertices and never changes a normal), hence the same
-/// classification, apexes and tetrahedra. Only its edge ids may change (the topology numbers
-/// the edges afresh). An edge whose two faces both survive has the same vertices, faces and
-/// apexes, hence the same edge tetrahedra.
-pub(crate) struct PreviousRound {
-    pub(crate) faces: Vec<HullFace>,
-    pub(crate) edges: Vec<HullEdge>,
+/// What the per-element builders read: the mesh's positions and normals, the face map (for
+/// the input face ids that errors name) and the options. [`build`] uses them on every element
+/// of a mesh; a refinement round (`crate::simplicial::rounds`) on the elements it changed.
+#[derive(Clone, Copy)]
+pub(crate) struct Inputs<'a> {
+    pub(crate) positions: &'a [DVec3],
+    pub(crate) normals: &'a [DVec3],
+    pub(crate) face_map: &'a [u32],
+    pub(crate) opts: &'a HullOptions,
 }
 
-impl PreviousRound {
-    /// Whether face `f` survived with corners `t`.
-    fn survived(&self, f: usize, t: &[u32; 3]) -> bool {
-        self.faces.get(f).is_some_and(|pf| pf.vertices == *t)
+impl Inputs<'_> {
+    fn p(&self, v: u32) -> DVec3 {
+        self.positions[v as usize]
     }
 
-    /// For each edge of `topo`, the id in the previous round of the same edge when both its
-    /// faces survived (`fresh_faces` false): same vertices in the same orientation, same two
-    /// faces. `None` for the others and for boundary and non-manifold edges.
-    ///
-    /// The previous round's edges are in its topology's order, sorted by their (smaller,
-    /// larger) vertex ids, as this round's are ([`Topology::edges`]), and refinement never
-    /// renumbers a vertex. So an edge is found by a binary search over a compact copy of the
-    /// previous keys (0.8 MB on the bunny), not through a surviving face's previous edge ids,
-    /// which read the 44 MB of faces and 62 MB of edges at random: that lookup was 130 ms of
-    /// CPU time over the bunny's four rounds, and the hull stage is about 45 ms faster
-    /// without it.
-    fn surviving_edges(&self, topo: &Topology, fresh_faces: &[bool]) -> Vec<Option<u32>> {
-        let keys: Vec<[u32; 2]> = self
-            .edges
-            .par_iter()
-            .map(|e| {
-                let [a, b] = e.vertices;
-                [a.min(b), a.max(b)]
-            })
-            .collect();
-        debug_assert!(keys.is_sorted(), "a round's edges are in topology order");
-        (0..topo.edge_count() as u32)
-            .into_par_iter()
-            .map(|e| {
-                let &[h, g] = topo.edge_half_edges(e) else {
-                    return None;
-                };
-                let (face_k, face_l) = (topo.corner_face(h), topo.corner_face(g));
-                if fresh_faces[face_k as usize] || fresh_faces[face_l as usize] {
-                    return None;
+    fn n(&self, v: u32) -> DVec3 {
+        self.normals[v as usize]
+    }
+
+    /// The edge `[i, j]` of `face_k = [p_i p_j p_k]` (which runs `i → j`) and, inside the
+    /// mesh, of `face_l = [p_j p_i p_l]` (`other = (face_l, l)`), classified, without its
+    /// tetrahedra ([`Inputs::edge_tetrahedra`]).
+    pub(crate) fn edge(
+        &self,
+        [i, j]: [u32; 2],
+        face_k: u32,
+        k: u32,
+        other: Option<(u32, u32)>,
+    ) -> HullEdge {
+        let (p, n) = (|v| self.p(v), |v| self.n(v));
+        HullEdge {
+            vertices: [i, j],
+            convexity: classify_edge(p(i), p(j), n(i), n(j), self.opts.zero_tolerance),
+            slopes: edge_slopes(p(i), p(j), n(i), n(j)),
+            face_k,
+            k,
+            face_l: other.map(|(g, _)| g),
+            l: other.map(|(_, l)| l),
+            positive: None,
+            negative: None,
+        }
+    }
+
+    /// Face `f` with corners `t`: its classification from its edges' (`edge_convexity`, in
+    /// the order `[i j]`, `[j k]`, `[k i]`, whose ids are `edges`) and its face tetrahedra
+    /// (§3.1).
+    pub(crate) fn face(
+        &self,
+        f: usize,
+        t: [u32; 3],
+        edges: [u32; 3],
+        edge_convexity: [Convexity; 3],
+    ) -> Result<HullFace, HullError> {
+        let (opts, face_map) = (self.opts, self.face_map);
+        let n = |v: u32| self.n(v);
+        let corners = t.map(|v| self.p(v));
+        let convexity = classify_face(edge_convexity);
+        let longest = longest_edge(corners);
+        let cross = (corners[1] - corners[0]).cross(corners[2] - corners[0]);
+        let area_ok = cross.length() > 1e-14 * longest * longest; // false for NaN too
+        if !area_ok {
+            return Err(HullError::DegenerateFace {
+                face: face_map[f],
+                vertices: t,
+            });
+        }
+        let normal = cross.normalize();
+        let centroid = (corners[0] + corners[1] + corners[2]) / 3.0;
+        let mut face = HullFace {
+            vertices: t,
+            source_face: face_map[f],
+            convexity,
+            edges,
+            centroid,
+            normal,
+            parameters: None,
+            positive: None,
+            negative: None,
+        };
+        if convexity == Convexity::ZeroConvex {
+            return Ok(face);
+        }
+        let params =
+            apex_parameters(corners, t.map(n), normal, opts.epsilon * longest).map_err(|l| {
+                HullError::NormalNotOnPositiveSide {
+                    face: face_map[f],
+                    vertex: t[l],
+                    cosine: normal.dot(n(t[l]).normalize()),
                 }
-                let id = keys.binary_search(&topo.edge(e)).ok()?;
-                let pe = &self.edges[id];
-                let ij = [topo.corner_vertex(h), topo.corner_vertex(topo.next(h))];
-                (pe.vertices == ij && pe.face_k == face_k && pe.face_l == Some(face_l))
-                    .then_some(id as u32)
+            })?;
+        let floor = opts.min_apex_height * longest;
+        // A nearest apex may lean far over a neighbour; standing at least ε off the face
+        // keeps its tetrahedron from going flat (see `ApexPlacement::Nearest`).
+        let lean_floor = opts.epsilon.max(opts.min_apex_height) * longest;
+        let margin = opts.epsilon * longest;
+        // The paper's t_max / t_min, pushed off the face to the floor.
+        let paper_t = |side: Side| match side {
+            Side::Positive => params.t_max.max(floor),
+            Side::Negative => params.t_min.min(-floor),
+        };
+        let nearest = opts.apex == ApexPlacement::Nearest;
+        // A nonconvex face's two apexes are placed together (on one line through c).
+        let pair = (nearest && convexity == Convexity::Nonconvex)
+            .then(|| nearest_apex_pair(corners, t.map(n), normal, margin, lean_floor))
+            .flatten();
+        let placed = |side: Side| -> Option<DVec3> {
+            if !nearest {
+                return None;
+            }
+            if convexity == Convexity::Nonconvex {
+                return pair.map(|(u, v)| if side == Side::Positive { u } else { v });
+            }
+            nearest_apex(corners, t.map(n), normal, margin, lean_floor, side)
+        };
+        let make = |side: Side| -> Result<FaceTetrahedron, HullError> {
+            // Where the quadratic program has no solution (only rounding on degenerate
+            // data can do that), the paper's apex, which always satisfies it.
+            let (apex, tt) = match placed(side) {
+                Some(apex) => (apex, (apex - centroid).dot(normal)),
+                None => (centroid + paper_t(side) * normal, paper_t(side)),
+            };
+            let tetrahedron = Tetrahedron::new([corners[0], corners[1], corners[2], apex])
+                .map_err(|source| HullError::DegenerateTetrahedron {
+                    what: if side == Side::Positive {
+                        "positive face"
+                    } else {
+                        "negative face"
+                    },
+                    element: face_name(face_map, f),
+                    source,
+                })?;
+            Ok(FaceTetrahedron {
+                side,
+                t: tt,
+                apex,
+                tetrahedron,
             })
-            .collect()
+        };
+        if convexity.has_positive_side() {
+            face.positive = Some(make(Side::Positive)?);
+        }
+        if convexity.has_negative_side() {
+            face.negative = Some(make(Side::Negative)?);
+        }
+        face.parameters = Some(params);
+        Ok(face)
+    }
+
+    /// The edge tetrahedra (§3.2) of an interior edge, on the sides its class asks for, from
+    /// its faces' apexes (`faces` holds its two faces, built); none on the boundary.
+    pub(crate) fn edge_tetrahedra(
+        &self,
+        edge: &mut HullEdge,
+        faces: &[HullFace],
+    ) -> Result<(), HullError> {
+        let (Some(face_l), Some(l)) = (edge.face_l, edge.l) else {
+            return Ok(()); // boundary: no edge tetrahedra
+        };
+        let p = |v: u32| self.p(v);
+        let [i, j] = edge.vertices;
+        for side in [Side::Positive, Side::Negative] {
+            let wanted = match side {
+                Side::Positive => edge.convexity.has_positive_side(),
+                Side::Negative => edge.convexity.has_negative_side(),
+            };
+            if !wanted {
+                continue;
+            }
+            let apex = |g: u32| -> Result<DVec3, HullError> {
+                faces[g as usize]
+                    .tetrahedron(side)
+                    .map(|t| t.apex)
+                    .ok_or(HullError::MissingApex {
+                        edge: [i, j],
+                        face: self.face_map[g as usize],
+                        side: side.name(),
+                    })
+            };
+            let wk = apex(edge.face_k)?;
+            let wl = apex(face_l)?;
+            let what = if side == Side::Positive {
+                "positive edge"
+            } else {
+                "negative edge"
+            };
+            let degenerate = |source| HullError::DegenerateTetrahedron {
+                what,
+                element: format!("edge ({i}, {j})"),
+                source,
+            };
+            let tetrahedron = Tetrahedron::new([wl, p(i), p(j), wk]).map_err(degenerate)?;
+            let mu = Tetrahedron::new([p(edge.k), p(i), p(j), wk])
+                .map_err(degenerate)?
+                .barycentric(wl);
+            let nu = Tetrahedron::new([wl, p(i), p(j), p(l)])
+                .map_err(degenerate)?
+                .barycentric(wk);
+            let et = EdgeTetrahedron {
+                side,
+                tetrahedron,
+                mu,
+                nu,
+            };
+            match side {
+                Side::Positive => edge.positive = Some(et),
+                Side::Negative => edge.negative = Some(et),
+            }
+        }
+        Ok(())
     }
 }
 
-/// What [`build`] gives: the faces and edges, and which of them are new since the previous
-/// round (all of them without one).
-pub(crate) struct Built {
-    pub(crate) faces: Vec<HullFace>,
-    pub(crate) edges: Vec<HullEdge>,
-    pub(crate) fresh_faces: Vec<bool>,
-    pub(crate) fresh_edges: Vec<bool>,
+/// A record to fill a failed slot of [`collect_first_error`] with (never returned).
+fn filler_edge() -> HullEdge {
+    HullEdge {
+        vertices: [0, 0],
+        convexity: Convexity::ZeroConvex,
+        slopes: [0.0; 2],
+        face_k: 0,
+        k: 0,
+        face_l: None,
+        l: None,
+        positive: None,
+        negative: None,
+    }
 }
 
+/// A record to fill a failed slot of [`collect_first_error_into`] with (never returned).
+fn filler_face() -> HullFace {
+    HullFace {
+        vertices: [0; 3],
+        source_face: 0,
+        convexity: Convexity::ZeroConvex,
+        edges: [0; 3],
+        centroid: DVec3::ZERO,
+        normal: DVec3::ZERO,
+        parameters: None,
+        positive: None,
+        negative: None,
+    }
+}
+
+/// Every face and edge of `mesh` with its classification and tetrahedra (§3.1, §3.2), in
+/// parallel; the error reported is the first in edge order (the edges' structure), then in
+/// face order, then in edge order again (the edge tetrahedra), whatever the thread count.
 pub(crate) fn build(
     mesh: &TriMesh,
     normals: &[DVec3],
     face_map: &[u32],
     opts: &HullOptions,
-    prev: Option<PreviousRound>,
-) -> Result<Built, HullError> {
+) -> Result<(Vec<HullFace>, Vec<HullEdge>), HullError> {
     let topo = mesh.topology();
-    let pos = mesh.positions();
     let tris = mesh.triangles();
-    let p = |v: u32| pos[v as usize];
-    let n = |v: u32| normals[v as usize];
-
-    // The faces that did not survive the previous round (all of them without one).
-    let fresh_faces: Vec<bool> = match &prev {
-        None => vec![true; tris.len()],
-        Some(pr) => tris
-            .par_iter()
-            .enumerate()
-            .map(|(f, t)| !pr.survived(f, t))
-            .collect(),
+    let inputs = Inputs {
+        positions: mesh.positions(),
+        normals,
+        face_map,
+        opts,
     };
-    // The previous round's id of each edge that survived it.
-    let reused: Vec<Option<u32>> = match &prev {
-        None => vec![None; topo.edge_count()],
-        Some(pr) => pr.surviving_edges(topo, &fresh_faces),
-    };
-    // Edges: orientation, faces, classification; in parallel, the first error in edge order.
-    // An edge whose two faces survived the previous round is that round's edge, tetrahedra
-    // and all (one copy instead of a classification and a second pass for the tetrahedra).
+    // Edges: orientation, faces, classification.
     let mut edges: Vec<HullEdge> = collect_first_error(
         topo.edge_count(),
         |e| {
@@ -281,7 +442,7 @@ pub(crate) fn build(
             let (i, j) = dir(hs[0]);
             let face_k = topo.corner_face(hs[0]);
             let k = topo.corner_vertex(topo.prev(hs[0]));
-            let (face_l, l) = if hs.len() == 2 {
+            let other = if hs.len() == 2 {
                 let (a, b) = dir(hs[1]);
                 let g = topo.corner_face(hs[1]);
                 if (a, b) != (j, i) {
@@ -290,315 +451,35 @@ pub(crate) fn build(
                         faces: [face_map[face_k as usize], face_map[g as usize]],
                     });
                 }
-                (Some(g), Some(topo.corner_vertex(topo.prev(hs[1]))))
+                Some((g, topo.corner_vertex(topo.prev(hs[1]))))
             } else {
-                (None, None)
+                None
             };
-            if let (Some(pr), Some(id)) = (&prev, reused[e as usize]) {
-                return Ok(pr.edges[id as usize].clone());
-            }
-            Ok(HullEdge {
-                vertices: [i, j],
-                convexity: classify_edge(p(i), p(j), n(i), n(j), opts.zero_tolerance),
-                slopes: edge_slopes(p(i), p(j), n(i), n(j)),
-                face_k,
-                k,
-                face_l,
-                l,
-                positive: None,
-                negative: None,
-            })
+            Ok(inputs.edge([i, j], face_k, k, other))
         },
-        || HullEdge {
-            vertices: [0, 0],
-            convexity: Convexity::ZeroConvex,
-            slopes: [0.0; 2],
-            face_k: 0,
-            k: 0,
-            face_l: None,
-            l: None,
-            positive: None,
-            negative: None,
-        },
+        filler_edge,
     )?;
 
-    // Faces: classification and face tetrahedra (§3.1).
-    // Faces are independent of each other: built in parallel, the first error (in face
-    // order) reported, so the result does not depend on the thread count.
-    let face_edges = |f: usize| -> [u32; 3] {
-        let first = topo.face_corners(f).start;
-        std::array::from_fn(|c| topo.corner_edge(first + c as u32))
-    };
-    let make_face = |f: usize| -> Result<HullFace, HullError> {
-        let t = &tris[f];
-        let fe = face_edges(f);
-        let corners = [p(t[0]), p(t[1]), p(t[2])];
-        let convexity = classify_face(fe.map(|e| edges[e as usize].convexity));
-        let longest = longest_edge(corners);
-        let cross = (corners[1] - corners[0]).cross(corners[2] - corners[0]);
-        let area_ok = cross.length() > 1e-14 * longest * longest; // false for NaN too
-        if !area_ok {
-            return Err(HullError::DegenerateFace {
-                face: face_map[f],
-                vertices: *t,
-            });
-        }
-        let normal = cross.normalize();
-        let centroid = (corners[0] + corners[1] + corners[2]) / 3.0;
-        let mut face = HullFace {
-            vertices: *t,
-            source_face: face_map[f],
-            convexity,
-            edges: fe,
-            centroid,
-            normal,
-            parameters: None,
-            positive: None,
-            negative: None,
-        };
-        if convexity != Convexity::ZeroConvex {
-            let params = apex_parameters(corners, t.map(n), normal, opts.epsilon * longest)
-                .map_err(|l| HullError::NormalNotOnPositiveSide {
-                    face: face_map[f],
-                    vertex: t[l],
-                    cosine: normal.dot(n(t[l]).normalize()),
-                })?;
-            let floor = opts.min_apex_height * longest;
-            // A nearest apex may lean far over a neighbour; standing at least ε off the face
-            // keeps its tetrahedron from going flat (see `ApexPlacement::Nearest`).
-            let lean_floor = opts.epsilon.max(opts.min_apex_height) * longest;
-            let margin = opts.epsilon * longest;
-            // The paper's t_max / t_min, pushed off the face to the floor.
-            let paper_t = |side: Side| match side {
-                Side::Positive => params.t_max.max(floor),
-                Side::Negative => params.t_min.min(-floor),
-            };
-            let nearest = opts.apex == ApexPlacement::Nearest;
-            // A nonconvex face's two apexes are placed together (on one line through c).
-            let pair = (nearest && convexity == Convexity::Nonconvex)
-                .then(|| nearest_apex_pair(corners, t.map(n), normal, margin, lean_floor))
-                .flatten();
-            let placed = |side: Side| -> Option<DVec3> {
-                if !nearest {
-                    return None;
-                }
-                if convexity == Convexity::Nonconvex {
-                    return pair.map(|(u, v)| if side == Side::Positive { u } else { v });
-                }
-                nearest_apex(corners, t.map(n), normal, margin, lean_floor, side)
-            };
-            let make = |side: Side| -> Result<FaceTetrahedron, HullError> {
-                // Where the quadratic program has no solution (only rounding on degenerate
-                // data can do that), the paper's apex, which always satisfies it.
-                let (apex, tt) = match placed(side) {
-                    Some(apex) => (apex, (apex - centroid).dot(normal)),
-                    None => (centroid + paper_t(side) * normal, paper_t(side)),
-                };
-                let tetrahedron = Tetrahedron::new([corners[0], corners[1], corners[2], apex])
-                    .map_err(|source| HullError::DegenerateTetrahedron {
-                        what: if side == Side::Positive {
-                            "positive face"
-                        } else {
-                            "negative face"
-                        },
-                        element: face_name(face_map, f),
-                        source,
-                    })?;
-                Ok(FaceTetrahedron {
-                    side,
-                    t: tt,
-                    apex,
-                    tetrahedron,
-                })
-            };
-            if convexity.has_positive_side() {
-                face.positive = Some(make(Side::Positive)?);
-            }
-            if convexity.has_negative_side() {
-                face.negative = Some(make(Side::Negative)?);
-            }
-            face.parameters = Some(params);
-        }
-        Ok(face)
-    };
-    let filler = || HullFace {
-        vertices: [0; 3],
-        source_face: 0,
-        convexity: Convexity::ZeroConvex,
-        edges: [0; 3],
-        centroid: DVec3::ZERO,
-        normal: DVec3::ZERO,
-        parameters: None,
-        positive: None,
-        negative: None,
-    };
-    let faces: Vec<HullFace> = match prev {
-        None => {
-            // Room for the halves that refinement rounds append (a few hundred faces on the
-            // bunny), so that they do not move the 43 MB vector to fresh memory.
-            let mut faces = Vec::with_capacity(tris.len() + tris.len() / 64 + 16);
-            collect_first_error_into(&mut faces, tris.len(), make_face, filler)?;
-            faces
-        }
-        // The previous round's faces, updated in place (refinement only appends faces): a
-        // survivor gets its new edge ids, a split face is built again, and the new halves are
-        // appended. On the bunny this saves copying 43 MB of faces per round.
-        Some(PreviousRound {
-            faces: mut kept,
-            edges: _,
-        }) => {
-            kept.truncate(tris.len());
-            let first_error = kept
-                .par_iter_mut()
-                .enumerate()
-                .filter_map(|(f, face)| {
-                    if !fresh_faces[f] {
-                        face.edges = face_edges(f);
-                        return None;
-                    }
-                    match make_face(f) {
-                        Ok(built) => {
-                            *face = built;
-                            None
-                        }
-                        Err(e) => Some((f, e)),
-                    }
-                })
-                .min_by_key(|(f, _)| *f);
-            if let Some((_, e)) = first_error {
-                return Err(e);
-            }
-            let start = kept.len();
-            let appended =
-                collect_first_error(tris.len() - start, |i| make_face(start + i), filler)?;
-            kept.extend(appended);
-            kept
-        }
-    };
+    // Faces: classification and face tetrahedra (§3.1). Room for the halves that refinement
+    // rounds append (a few hundred faces on the bunny), so that they do not move the 43 MB
+    // vector to fresh memory.
+    let mut faces = Vec::with_capacity(tris.len() + tris.len() / 64 + 16);
+    collect_first_error_into(
+        &mut faces,
+        tris.len(),
+        |f| {
+            let first = topo.face_corners(f).start;
+            let fe: [u32; 3] = std::array::from_fn(|c| topo.corner_edge(first + c as u32));
+            inputs.face(f, tris[f], fe, fe.map(|e| edges[e as usize].convexity))
+        },
+        filler_face,
+    )?;
 
     // Edge tetrahedra (§3.2).
-    let done: Vec<Result<bool, HullError>> = edges
+    let done: Vec<Result<(), HullError>> = edges
         .par_iter_mut()
-        .zip(reused.par_iter())
-        .map(|(edge, reused)| -> Result<bool, HullError> {
-            if reused.is_some() {
-                return Ok(false);
-            }
-            let (Some(face_l), Some(l)) = (edge.face_l, edge.l) else {
-                return Ok(true); // boundary: no edge tetrahedra
-            };
-            let [i, j] = edge.vertices;
-            for side in [Side::Positive, Side::Negative] {
-                let wanted = match side {
-                    Side::Positive => edge.convexity.has_positive_side(),
-                    Side::Negative => edge.convexity.has_negative_side(),
-                };
-                if !wanted {
-                    continue;
-                }
-                let apex = |g: u32| -> Result<DVec3, HullError> {
-                    faces[g as usize].tetrahedron(side).map(|t| t.apex).ok_or(
-                        HullError::MissingApex {
-                            edge: [i, j],
-                            face: face_map[g as usize],
-                            side: side.name(),
-                        },
-                    )
-                };
-                let wk = apex(edge.face_k)?;
-                let wl = apex(face_l)?;
-                let what = if side == Side::Positive {
-                    "positive edge"
-                } else {
-                    "negative edge"
-                };
-                let degenerate = |source| HullError::DegenerateTetrahedron {
-                    what,
-                    element: format!("edge ({i}, {j})"),
-                    source,
-                };
-                let tetrahedron = Tetrahedron::new([wl, p(i), p(j), wk]).map_err(degenerate)?;
-                let mu = Tetrahedron::new([p(edge.k), p(i), p(j), wk])
-                    .map_err(degenerate)?
-                    .barycentric(wl);
-                let nu = Tetrahedron::new([wl, p(i), p(j), p(l)])
-                    .map_err(degenerate)?
-                    .barycentric(wk);
-                let et = EdgeTetrahedron {
-                    side,
-                    tetrahedron,
-                    mu,
-                    nu,
-                };
-                match side {
-                    Side::Positive => edge.positive = Some(et),
-                    Side::Negative => edge.negative = Some(et),
-                }
-            }
-            Ok(true)
-        })
+        .map(|edge| inputs.edge_tetrahedra(edge, &faces))
         .collect();
-    let fresh_edges = done.into_iter().collect::<Result<Vec<bool>, _>>()?;
-    Ok(Built {
-        faces,
-        edges,
-        fresh_faces,
-        fresh_edges,
-    })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::refine::RefineState;
-    use algesurf_mesh::shapes::icosphere;
-
-    /// A refinement round reuses the faces and edges that survived it, and the result is the
-    /// hull a build from scratch gives; the fresh flags mark exactly the new elements.
-    #[test]
-    fn reused_round_equals_a_build_from_scratch() {
-        let mesh = icosphere(2);
-        let normals: Vec<DVec3> = mesh.positions().iter().map(|p| p.normalize()).collect();
-        let opts = HullOptions::default();
-        let face_map: Vec<u32> = (0..mesh.face_count() as u32).collect();
-        let first = build(&mesh, &normals, &face_map, &opts, None).unwrap();
-        assert!(first.fresh_faces.iter().all(|&f| f));
-        let mut state = RefineState::new(mesh.clone(), normals);
-        for f in [0u32, 17, 40, 111] {
-            let corners = state.mesh.triangles()[f as usize];
-            state.bisect_face(f, corners, 0).unwrap();
-        }
-        state.finish_round().unwrap();
-        let build_now = |prev| build(&state.mesh, &state.normals, &state.face_map, &opts, prev);
-        let reused = build_now(Some(PreviousRound {
-            faces: first.faces.clone(),
-            edges: first.edges.clone(),
-        }))
-        .unwrap();
-        let scratch = build_now(None).unwrap();
-        assert_eq!(reused.faces, scratch.faces);
-        assert_eq!(reused.edges, scratch.edges);
-        let mut survivors = 0;
-        for (f, face) in scratch.faces.iter().enumerate() {
-            let survived = first
-                .faces
-                .get(f)
-                .is_some_and(|pf| pf.vertices == face.vertices);
-            assert_eq!(reused.fresh_faces[f], !survived, "face {f}");
-            survivors += survived as usize;
-        }
-        let nf = scratch.faces.len();
-        assert!(survivors > nf / 2 && survivors < nf, "{survivors} of {nf}");
-        // An edge is reused exactly when both its faces survived with the same orientation.
-        let mut reused_edges = 0;
-        for (e, edge) in scratch.edges.iter().enumerate() {
-            let faces_fresh = reused.fresh_faces[edge.face_k as usize]
-                || edge.face_l.is_none_or(|l| reused.fresh_faces[l as usize]);
-            if faces_fresh {
-                assert!(reused.fresh_edges[e], "edge {e} reused next to a new face");
-            }
-            reused_edges += !reused.fresh_edges[e] as usize;
-        }
-        assert!(reused_edges > scratch.edges.len() / 2, "{reused_edges}");
-    }
+    done.into_iter().collect::<Result<(), _>>()?;
+    Ok((faces, edges))
 }

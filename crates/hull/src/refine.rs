@@ -37,6 +37,19 @@ pub(crate) struct RefineState {
     edit: Option<EditMesh>,
     /// Whether `edit` has splits that `mesh` does not have yet.
     edited: bool,
+    /// What the splits since the last [`RefineState::take_changes`] changed.
+    changes: Changes,
+}
+
+/// What a round's splits changed: the faces they split (kept ids, new corners) or appended,
+/// and the edges they removed (each split edge, by its key). A refinement round rebuilds only
+/// these (`crate::simplicial::rounds`).
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Changes {
+    /// Changed and appended face ids, in the order the splits made them (with repeats).
+    pub(crate) faces: Vec<u32>,
+    /// The split edges' keys (`[smaller, larger]` vertex id).
+    pub(crate) removed_edges: Vec<[u32; 2]>,
 }
 
 pub(crate) fn key(a: u32, b: u32) -> [u32; 2] {
@@ -74,6 +87,7 @@ impl RefineState {
             ancestor: HashMap::new(),
             edit: None,
             edited: false,
+            changes: Changes::default(),
         }
     }
 
@@ -95,6 +109,7 @@ impl RefineState {
             ancestor,
             edit: None,
             edited: false,
+            changes: Changes::default(),
         }
     }
 
@@ -111,6 +126,29 @@ impl RefineState {
             self.edited = false;
         }
         Ok(())
+    }
+
+    /// The current positions and triangles: the edited mesh's while splits are pending
+    /// ([`RefineState::finish_round`] has not run since), else `mesh`'s.
+    pub(crate) fn current(&self) -> (&[DVec3], &[[u32; 3]]) {
+        match (&self.edit, self.edited) {
+            (Some(edit), true) => (edit.positions(), edit.triangles()),
+            _ => (self.mesh.positions(), self.mesh.triangles()),
+        }
+    }
+
+    /// The faces on edge `a`–`b` of the current mesh, ascending (see
+    /// [`RefineState::current`]); only while splits are pending.
+    pub(crate) fn edge_faces(&self, a: u32, b: u32) -> Option<Vec<u32>> {
+        match (&self.edit, self.edited) {
+            (Some(edit), true) => Some(edit.edge_faces(a, b)),
+            _ => None,
+        }
+    }
+
+    /// What the splits since the last call changed.
+    pub(crate) fn take_changes(&mut self) -> Changes {
+        std::mem::take(&mut self.changes)
     }
 
     fn edit(&mut self) -> &mut EditMesh {
@@ -135,7 +173,14 @@ impl RefineState {
             return Err(algesurf_mesh::MeshError::NonFinite(format!("edge point {point}")).into());
         }
         let edit = self.edit();
+        let first_new = edit.triangles().len() as u32;
         let (m, split) = edit.split_edge(a, b, point);
+        let appended = first_new..edit.triangles().len() as u32;
+        self.changes
+            .faces
+            .extend(split.iter().copied().chain(appended));
+        self.changes.removed_edges.push(key(a, b));
+        let edit = self.edit();
         let mut neighbours = vec![a, b];
         for &f in &split {
             let t = edit.triangles()[f as usize];

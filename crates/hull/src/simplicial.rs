@@ -2,9 +2,7 @@
 
 use crate::classify::Side;
 use crate::crossing::CrossingZone;
-use crate::hull::{
-    Built, HullEdge, HullFace, PreviousRound, build as build_faces_edges, check_input, longest_edge,
-};
+use crate::hull::{HullEdge, HullFace, build as build_faces_edges, check_input};
 use crate::refine::RefineState;
 use crate::{HullError, HullOptions};
 use algesurf_mesh::TriMesh;
@@ -12,6 +10,8 @@ use glam::DVec3;
 use std::collections::HashMap;
 
 mod intersect;
+mod rounds;
+use rounds::{Overlap, Rounds};
 /// The mesh element a hull tetrahedron belongs to (ids of the possibly refined mesh).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Element {
@@ -190,25 +190,54 @@ impl SimplicialHull {
     }
 
     /// The build-check-refine loop of [`SimplicialHull::new`] from `state`, numbering its
-    /// rounds from `first_round`.
+    /// rounds from `first_round`: the first round builds and checks everything, later ones
+    /// what their splits changed ([`rounds`]).
     fn refine(
         mut state: RefineState,
         zone: CrossingZone,
         options: &HullOptions,
         first_round: usize,
     ) -> Result<SimplicialHull, HullError> {
-        let mut round = first_round;
-        // The error to report if a refinement round makes the hull invalid.
-        let mut pending: Option<HullError> = None;
-        // The previous round's faces and edges, reused where they survived.
-        let mut previous: Option<PreviousRound> = None;
-        // The first round's tetrahedra, for later rounds to check their new ones against.
-        let mut index: Option<intersect::TetIndex> = None;
+        // Splits made before (`refine_faces`) are in the mesh this round builds in full.
+        state.take_changes();
+        let (faces, edges) =
+            build_faces_edges(&state.mesh, &state.normals, &state.face_map, options)?;
+        // The mesh moves into the hull (and back out for the splits; a clone was 10 MB of
+        // copying on the bunny), which takes the state's bookkeeping when done.
+        let take_mesh = |state: &mut RefineState| {
+            TriMesh::new(Vec::new(), Vec::new())
+                .map(|empty| std::mem::replace(&mut state.mesh, empty))
+        };
+        let shell = |mesh, faces, edges| SimplicialHull {
+            mesh,
+            normals: Vec::new(),
+            faces,
+            edges,
+            face_map: Vec::new(),
+            input_vertex_count: 0,
+            refinements: Vec::new(),
+            options: options.clone(),
+            zone: CrossingZone::default(),
+            ancestor: HashMap::new(),
+        };
+        let done = |hull: SimplicialHull, state: RefineState, zone: CrossingZone| SimplicialHull {
+            zone,
+            ancestor: state.ancestor,
+            normals: state.normals,
+            face_map: state.face_map,
+            refinements: state.refinements,
+            input_vertex_count: state.input_vertex_count,
+            ..hull
+        };
+        let hull = shell(take_mesh(&mut state)?, faces, edges);
+        if !options.check_intersections {
+            return Ok(done(hull, state, zone));
+        }
         // The connected component of every input face: bisection keeps a face's children in
         // its component and joins no two, so a face's component in any round is its input
         // face's (`face_map`), and the mesh's components are found once, not every round.
         let input_component: Vec<u32> = {
-            let comp = state.mesh.topology().face_components();
+            let comp = hull.mesh.topology().face_components();
             let size = state
                 .face_map
                 .iter()
@@ -221,195 +250,109 @@ impl SimplicialHull {
             }
             ic
         };
+        // Overlaps between tetrahedra of different connected components are between
+        // different surfaces (the Utah teapot's spout passes through its body), and those
+        // around two input faces that cross are the input's (the cow's ears through its
+        // head): no refinement separates them, so only the other overlaps are refined;
+        // these are reported by `distant_intersections()`.
+        let removable = |state: &RefineState, found: Vec<Overlap>| -> Vec<Overlap> {
+            let component = |f: u32| input_component[state.face_map[f as usize] as usize];
+            found
+                .into_iter()
+                .filter(|h| !rounds::unremovable(component, &zone, &state.face_map, h))
+                .collect()
+        };
+        let (found, index) = hull.indexed_intersections();
+        let found = found.iter().map(|h| hull.overlap(h)).collect();
+        let mut hits = removable(&state, found);
+        if hits.is_empty() {
+            return Ok(done(hull, state, zone));
+        }
+        let first_keys = hull.mesh.topology().edges().to_vec();
+        state.mesh = hull.mesh;
+        let mut rounds = Rounds::new(hull.faces, hull.edges, first_keys, index);
+        let mut round = first_round;
         loop {
-            let reusing = previous.is_some();
-            let built = build_faces_edges(
-                &state.mesh,
-                &state.normals,
-                &state.face_map,
-                options,
-                previous.take(),
-            );
-            let Built {
-                faces,
-                edges,
-                fresh_faces,
-                fresh_edges,
-            } = match (built, pending.take()) {
-                (Ok(x), _) => x,
-                (Err(e), None) => return Err(e),
-                (
-                    Err(e),
-                    Some(HullError::UnresolvedIntersection {
-                        edge,
-                        faces,
-                        rounds,
-                        ..
-                    }),
-                ) => {
-                    return Err(HullError::UnresolvedIntersection {
-                        edge,
-                        faces,
-                        rounds: rounds + 1,
-                        reason: format!("refining made the hull invalid: {e}"),
-                    });
-                }
-                (Err(_), Some(other)) => return Err(other),
-            };
-            // The mesh moves into the round's hull and back out before the splits (a clone
-            // per round was 10 MB of copying on the bunny).
-            let hull = SimplicialHull {
-                mesh: std::mem::replace(&mut state.mesh, TriMesh::new(Vec::new(), Vec::new())?),
-                normals: Vec::new(),
-                faces,
-                edges,
-                face_map: Vec::new(),
-                input_vertex_count: state.input_vertex_count,
-                refinements: Vec::new(),
-                options: options.clone(),
-                zone: CrossingZone::default(),
-                ancestor: HashMap::new(),
-            };
-            // Overlaps between tetrahedra of different connected components are between
-            // different surfaces (the Utah teapot's spout passes through its body), and those
-            // around two input faces that cross are the input's (the cow's ears through its
-            // head): no refinement separates them, so only the other overlaps are refined;
-            // these are reported by `distant_intersections()`.
-            let hits: Vec<Intersection> = if options.check_intersections {
-                let component: Vec<u32> = state
-                    .face_map
-                    .iter()
-                    .map(|&g| input_component[g as usize])
-                    .collect();
-                // Survivors were checked against each other in the previous round.
-                let found = match (reusing, index.as_mut()) {
-                    (true, Some(index)) => {
-                        hull.fresh_intersections(index, &fresh_faces, &fresh_edges)
-                    }
-                    _ => {
-                        let (found, built) = hull.indexed_intersections();
-                        index = Some(built);
-                        found
-                    }
-                };
-                found
-                    .into_iter()
-                    .filter(|h| !hull.unremovable(&component, &zone, &state.face_map, h))
-                    .collect()
-            } else {
-                Vec::new()
-            };
-            if hits.is_empty() {
-                return Ok(SimplicialHull {
-                    zone,
-                    ancestor: state.ancestor,
-                    normals: state.normals,
-                    face_map: state.face_map,
-                    refinements: state.refinements,
-                    ..hull
-                });
-            }
+            let (positions, triangles) = state.current();
             let hit = &hits[0];
-            let [a, b] = hull.edges[hull.conflict_edge(hit) as usize].vertices;
-            let unresolved = |reason: String| HullError::UnresolvedIntersection {
-                edge: state.input_edge(a, b),
-                faces: [
-                    state.face_map[hull.element_faces(hit.first.element)[0] as usize],
-                    state.face_map[hull.element_faces(hit.second.element)[0] as usize],
-                ],
-                rounds: round,
+            let [a, b] = rounds::conflict_edge(hit, positions, triangles);
+            // The overlap is named by an input edge and the input faces of its two parts.
+            let first_face = |t: &rounds::RoundTet| t.part.faces().next().unwrap_or(0);
+            let edge = state.input_edge(a, b);
+            let faces = [hit.first, hit.second].map(|t| state.face_map[first_face(&t) as usize]);
+            let unresolved = |rounds: usize, reason: String| HullError::UnresolvedIntersection {
+                edge,
+                faces,
+                rounds,
                 reason,
             };
             if round - first_round == options.max_refinement_rounds {
                 // Same-component overlaps that survive every round are an error.
-                return Err(unresolved(format!(
-                    "the limit of {round} rounds is reached; {}",
-                    hull.tallest_explained(&hits, &state.normals, &state.face_map)
-                )));
+                return Err(unresolved(
+                    round,
+                    format!(
+                        "the limit of {round} rounds is reached; {}",
+                        rounds::tallest_explained(
+                            &hits,
+                            rounds.faces(),
+                            positions,
+                            &state.normals,
+                            &state.face_map,
+                            state.input_vertex_count,
+                        )
+                    ),
+                ));
             }
-            pending = Some(unresolved(String::new()));
             // Faces to bisect, with their corners now (ids of split faces get reused).
-            let mut targets: Vec<u32> = Vec::new();
-            let mut seen = vec![false; hull.faces.len()];
+            let mut targets: Vec<(u32, [u32; 3])> = Vec::new();
+            let mut seen = vec![false; triangles.len()];
             for hit in &hits {
-                for el in [hit.first.element, hit.second.element] {
-                    for f in hull.element_faces(el) {
+                for part in [hit.first.part, hit.second.part] {
+                    for f in part.faces() {
                         if !std::mem::replace(&mut seen[f as usize], true) {
-                            targets.push(f);
+                            targets.push((f, triangles[f as usize]));
                         }
                     }
                 }
             }
-            let corners: Vec<[u32; 3]> = targets
-                .iter()
-                .map(|&f| hull.mesh.triangles()[f as usize])
-                .collect();
-            state.mesh = hull.mesh;
-            for (&f, &c) in targets.iter().zip(&corners) {
-                state.bisect_face(f, c, round)?;
+            for (f, corners) in targets {
+                state.bisect_face(f, corners, round)?;
             }
-            state.finish_round()?;
-            previous = Some(PreviousRound {
-                faces: hull.faces,
-                edges: hull.edges,
-            });
             round += 1;
+            let found = rounds
+                .round(&mut state, options)
+                .map_err(|e| unresolved(round, format!("refining made the hull invalid: {e}")))?;
+            hits = removable(&state, found);
+            if hits.is_empty() {
+                let (faces, edges) = rounds.finish(&mut state)?;
+                let hull = shell(take_mesh(&mut state)?, faces, edges);
+                return Ok(done(hull, state, zone));
+            }
         }
     }
 
-    /// Names the tallest face tetrahedron among `hits` and the corner normal that makes it
-    /// tall: §3.1's apex height `t_l = (p_l − c)ᵀn_l / n_ijkᵀn_l` grows without bound as `n_l`
-    /// turns into the face's plane, and refinement only helps when the faces around `p_l`
-    /// turn towards the plane orthogonal to `n_l`, which they do not at a sharp rim.
-    fn tallest_explained(
-        &self,
-        hits: &[Intersection],
-        normals: &[DVec3],
-        face_map: &[u32],
-    ) -> String {
-        let pos = self.mesh.positions();
-        let mut best: Option<(f64, u32, Side)> = None;
-        for h in hits {
-            for (el, side) in [
-                (h.first.element, h.first.side),
-                (h.second.element, h.second.side),
-            ] {
-                for f in self.element_faces(el) {
-                    let face = &self.faces[f as usize];
-                    let Some(t) = face.tetrahedron(side) else {
-                        continue;
-                    };
-                    let ratio = t.t.abs() / longest_edge(face.vertices.map(|v| pos[v as usize]));
-                    if best.is_none_or(|(r, _, _)| ratio > r) {
-                        best = Some((ratio, f, side));
+    /// The overlap `h` of this hull's tetrahedra with its elements named by [`rounds::Part`].
+    fn overlap(&self, h: &Intersection) -> Overlap {
+        let tet = |t: &HullTetrahedron| rounds::RoundTet {
+            part: match t.element {
+                Element::Face(f) => rounds::Part::Face(f),
+                Element::Edge(e) => {
+                    let edge = &self.edges[e as usize];
+                    rounds::Part::Edge {
+                        vertices: edge.vertices,
+                        face_k: edge.face_k,
+                        face_l: edge.face_l,
                     }
                 }
-            }
+            },
+            side: t.side,
+            vertices: t.vertices,
+        };
+        Overlap {
+            first: tet(&h.first),
+            second: tet(&h.second),
+            depth: h.depth,
         }
-        let Some((ratio, f, side)) = best else {
-            return "the intersecting tetrahedra are edge tetrahedra only".to_string();
-        };
-        let face = &self.faces[f as usize];
-        let (v, cos) = face
-            .vertices
-            .iter()
-            .map(|&v| (v, face.normal.dot(normals[v as usize].normalize())))
-            .min_by(|x, y| x.1.total_cmp(&y.1))
-            .expect("a face has three corners");
-        let which = if (v as usize) < self.input_vertex_count {
-            format!("input vertex {v}")
-        } else {
-            format!("vertex {v} inserted by refinement")
-        };
-        format!(
-            "the tallest of them, the {} tetrahedron of face {f} (in input face {}), stands \
-             {ratio:.2} times its longest edge off the face; the normal of its corner {which} is \
-             {:.1}° from the face's normal (a sharp rim or fold: smoothing or re-meshing it \
-             there, or other normals, helps)",
-            side.name(),
-            face_map[f as usize],
-            cos.clamp(-1.0, 1.0).acos().to_degrees(),
-        )
     }
 
     /// The mesh vertices of an element's tetrahedron (three for a face, two for an edge).
@@ -431,12 +374,6 @@ impl SimplicialHull {
         self.mesh.topology().face_components()
     }
 
-    fn same_component(&self, component: &[u32], a: Element, b: Element) -> bool {
-        let ca = component[self.element_faces(a)[0] as usize];
-        let cb = component[self.element_faces(b)[0] as usize];
-        ca == cb
-    }
-
     /// Overlapping tetrahedra that refinement cannot separate, left in the hull and reported
     /// here:
     /// * those of different connected components of the mesh: places where separate surfaces
@@ -453,7 +390,10 @@ impl SimplicialHull {
         let component = self.face_components();
         self.intersections()
             .into_iter()
-            .filter(|h| self.unremovable(&component, &self.zone, &self.face_map, h))
+            .filter(|h| {
+                let of = |f: u32| component[f as usize];
+                rounds::unremovable(of, &self.zone, &self.face_map, &self.overlap(h))
+            })
             .collect()
     }
 
@@ -462,65 +402,6 @@ impl SimplicialHull {
     /// [`HullOptions::check_intersections`] is set (it is by default).
     pub fn input_crossings(&self) -> &[[u32; 2]] {
         self.zone.crossings()
-    }
-
-    /// Whether refinement cannot remove overlap `h` (see
-    /// [`SimplicialHull::distant_intersections`]); `face_map` maps this hull's faces to
-    /// input faces.
-    fn unremovable(
-        &self,
-        component: &[u32],
-        zone: &CrossingZone,
-        face_map: &[u32],
-        h: &Intersection,
-    ) -> bool {
-        let (a, b) = (h.first.element, h.second.element);
-        if !self.same_component(component, a, b) {
-            return true;
-        }
-        let fb = self.element_faces(b);
-        self.element_faces(a).iter().any(|&x| {
-            fb.iter()
-                .any(|&y| zone.contains(face_map[x as usize], face_map[y as usize]))
-        })
-    }
-
-    /// The faces of an element (one for a face, one or two for an edge).
-    fn element_faces(&self, e: Element) -> Vec<u32> {
-        match e {
-            Element::Face(f) => vec![f],
-            Element::Edge(e) => {
-                let edge = &self.edges[e as usize];
-                std::iter::once(edge.face_k).chain(edge.face_l).collect()
-            }
-        }
-    }
-
-    /// The edges of `element` (one for an edge, three for a face).
-    fn element_edges(&self, e: Element) -> Vec<u32> {
-        match e {
-            Element::Face(f) => self.faces[f as usize].edges.to_vec(),
-            Element::Edge(e) => vec![e],
-        }
-    }
-
-    fn edge_length(&self, e: u32) -> f64 {
-        let [a, b] = self.edges[e as usize].vertices;
-        self.mesh.positions()[a as usize].distance(self.mesh.positions()[b as usize])
-    }
-
-    /// The edge an intersection is named by: the edge the two elements share, else the
-    /// longest edge of the first element.
-    fn conflict_edge(&self, hit: &Intersection) -> u32 {
-        let ea = self.element_edges(hit.first.element);
-        let eb = self.element_edges(hit.second.element);
-        if let Some(&e) = ea.iter().find(|e| eb.contains(e)) {
-            return e;
-        }
-        ea.iter()
-            .copied()
-            .max_by(|&x, &y| self.edge_length(x).total_cmp(&self.edge_length(y)))
-            .unwrap_or(0)
     }
 
     /// The (possibly refined) mesh the hull is built on. Vertices `0..input_vertex_count()` are

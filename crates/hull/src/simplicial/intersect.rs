@@ -2,10 +2,10 @@
 //! pair once for a new hull, and after a refinement round only the pairs with a new
 //! tetrahedron.
 
+use super::rounds::{Overlap, Part, RoundTet};
 use super::{Element, HullTetrahedron, Intersection, SimplicialHull};
 use crate::Side;
 use crate::overlap::{FacePlanes, common_diagonal, depth_beyond, depth_until, tet_box};
-use algesurf_mesh::Aabb;
 use algesurf_mesh::morton::MortonBvh;
 use glam::DVec3;
 use rayon::prelude::*;
@@ -80,7 +80,7 @@ impl SimplicialHull {
 
     /// [`SimplicialHull::intersections`], with the tree and the tetrahedra it was found with,
     /// for the refinement rounds to check their new tetrahedra against
-    /// ([`SimplicialHull::fresh_intersections`]).
+    /// ([`TetIndex::overlaps_of`]).
     pub(crate) fn indexed_intersections(&self) -> (Vec<Intersection>, TetIndex) {
         let checked = self.check_every_pair();
         let order = checked.tree.order();
@@ -94,10 +94,11 @@ impl SimplicialHull {
         (
             checked.hits,
             TetIndex {
-                tree: checked.tree,
-                keys,
-                verts: checked.verts,
-                later: Vec::new(),
+                trees: vec![Indexed {
+                    tree: checked.tree,
+                    keys,
+                    verts: checked.verts,
+                }],
             },
         )
     }
@@ -165,134 +166,6 @@ impl SimplicialHull {
             TetKey::Edge(self.edges[k - nf].vertices, side)
         }
     }
-
-    /// The pairs of [`SimplicialHull::intersections`] that involve a tetrahedron of a face or
-    /// edge marked fresh, in the same order, given the `index` of the first round's check
-    /// (to which this adds the fresh tetrahedra).
-    ///
-    /// Refinement rounds check only the new tetrahedra: those of an element that survived the
-    /// round (`hull::PreviousRound`: a face with the same id and corners, an edge with two such
-    /// faces) are that round's, reused, not rebuilt, and every pair of two such was checked
-    /// then and did not overlap — had it overlapped, its faces would have been bisected,
-    /// changing their corners (overlaps left alone as the input's are reported by
-    /// [`SimplicialHull::distant_intersections`], which checks every pair).
-    ///
-    /// Each fresh tetrahedron (a few hundred of the bunny's 270 k) is queried against the
-    /// first round's tree and the tetrahedra later rounds made. A tetrahedron found there
-    /// counts when its key (a face by id, an edge by its vertices, and the side) names a
-    /// tetrahedron of this hull with the same four vertices: then it is that tetrahedron.
-    /// Every tetrahedron of this hull is there, as it was made either by the first round or,
-    /// fresh, by a later one. So a round costs the count of every element's tetrahedra (for
-    /// their indices) and the fresh ones' queries, not a pass over every tetrahedron's box.
-    pub(crate) fn fresh_intersections(
-        &self,
-        index: &mut TetIndex,
-        fresh_faces: &[bool],
-        fresh_edges: &[bool],
-    ) -> Vec<Intersection> {
-        let nf = self.faces.len();
-        let n = nf + self.edges.len();
-        let fresh = |k: usize| {
-            if k < nf {
-                fresh_faces[k]
-            } else {
-                fresh_edges[k - nf]
-            }
-        };
-        // The index in `tetrahedra()` of each element's first tetrahedron.
-        let counts: Vec<u32> = (0..n)
-            .into_par_iter()
-            .map(|k| self.element_tets(k).count() as u32)
-            .collect();
-        let first: Vec<u32> = counts
-            .iter()
-            .scan(0u32, |acc, &c| {
-                let at = *acc;
-                *acc += c;
-                Some(at)
-            })
-            .collect();
-        let first = &first;
-        // This hull's tetrahedron named by `key`, with its index.
-        let topology = self.mesh.topology();
-        let resolve = |key: TetKey| -> Option<(u32, HullTetrahedron)> {
-            let (k, side) = match key {
-                TetKey::Face(f, side) => ((f as usize) < nf).then_some((f as usize, side))?,
-                TetKey::Edge([a, b], side) => (nf + topology.find_edge(a, b)? as usize, side),
-            };
-            self.element_tets(k)
-                .enumerate()
-                .find(|(_, t)| t.side == side)
-                .map(|(s, t)| (first[k] + s as u32, t))
-        };
-        let new: Vec<(u32, HullTetrahedron)> = (0..n)
-            .filter(|&k| fresh(k))
-            .flat_map(|k| {
-                self.element_tets(k)
-                    .enumerate()
-                    .map(move |(s, t)| (first[k] + s as u32, t))
-            })
-            .collect();
-        index.later.extend(new.iter().map(|&(_, t)| {
-            let k = match t.element {
-                Element::Face(f) => f as usize,
-                Element::Edge(e) => nf + e as usize,
-            };
-            (self.tet_key(k, t.side), t.vertices, aabb(&t.vertices))
-        }));
-        let tol = self.options.overlap_tolerance;
-        let index = &*index;
-        let mut pairs: Vec<(u32, u32, Intersection)> = new
-            .par_iter()
-            .map_init(Vec::new, |stack, &(i, t)| {
-                let b = aabb(&t.vertices);
-                let mut candidates: Vec<(TetKey, &[DVec3; 4])> = Vec::new();
-                index
-                    .tree
-                    .overlapping_slots(&(b.min, b.max), stack, |slot| {
-                        candidates.push((index.keys[slot], &index.verts[slot]));
-                    });
-                candidates.extend(
-                    index
-                        .later
-                        .iter()
-                        .filter(|(_, _, lb)| lb.overlaps(&b))
-                        .map(|(key, v, _)| (*key, v)),
-                );
-                let mut out = Vec::new();
-                for (key, v) in candidates {
-                    let Some((j, u)) = resolve(key).filter(|(j, u)| *j != i && u.vertices == *v)
-                    else {
-                        continue;
-                    };
-                    let ((i, a), (j, b)) = if i < j {
-                        ((i, t), (j, u))
-                    } else {
-                        ((j, u), (i, t))
-                    };
-                    let depth = depth_beyond(&a.vertices, &b.vertices, tol);
-                    if depth > tol {
-                        out.push((
-                            i,
-                            j,
-                            Intersection {
-                                first: a,
-                                second: b,
-                                depth,
-                            },
-                        ));
-                    }
-                }
-                out
-            })
-            .flatten_iter()
-            .collect();
-        // A pair of two fresh tetrahedra is met from both; a tetrahedron can be listed twice
-        // (a later round remade it as it was).
-        pairs.sort_unstable_by_key(|&(i, j, _)| (i, j));
-        pairs.dedup_by_key(|&mut (i, j, _)| (i, j));
-        pairs.into_iter().map(|(_, _, hit)| hit).collect()
-    }
 }
 
 /// What [`SimplicialHull::intersections`] found and what it worked on: the tree over every
@@ -314,87 +187,99 @@ pub(crate) enum TetKey {
     Edge([u32; 2], Side),
 }
 
-/// The first round's tree over every tetrahedron's box with each slot's key and vertices, and
-/// the tetrahedra later rounds made (key, vertices, box), for
-/// [`SimplicialHull::fresh_intersections`].
-pub(crate) struct TetIndex {
+/// A tree over tetrahedra's boxes with each slot's key and vertices.
+struct Indexed {
     tree: MortonBvh,
     keys: Vec<TetKey>,
     verts: Vec<[DVec3; 4]>,
-    later: Vec<(TetKey, [DVec3; 4], Aabb)>,
 }
 
-/// A tetrahedron's bounding box as an [`Aabb`] ([`tet_box`]'s corners).
-fn aabb(v: &[DVec3; 4]) -> Aabb {
-    let (min, max) = tet_box(v);
-    Aabb { min, max }
+/// Every tetrahedron made so far, for [`TetIndex::overlaps_of`]: the first round's tree over
+/// every tetrahedron of the hull, then one tree per later round over the tetrahedra it made.
+///
+/// A tree per round, not a list: Suzanne's 17 rounds make 5 272 splits, and scanning a list
+/// of every tetrahedron made since for each new one was 80 % of its `perf` samples (the
+/// hull took 9–11 s).
+pub(crate) struct TetIndex {
+    trees: Vec<Indexed>,
 }
 
-#[cfg(test)]
-mod tests {
-    use crate::{HullOptions, SimplicialHull};
-    use glam::DVec3;
-
-    /// `fresh_intersections` is `intersections` restricted to the pairs with a marked
-    /// element, in the same order with the same depths: on a coarse wave whose face
-    /// tetrahedra overlap (built without the check, so the overlaps stay), with every element
-    /// marked, with none, and with every third face and every second edge.
-    #[test]
-    fn fresh_intersections_are_the_intersections_with_a_fresh_element() {
-        // z = ½ sin 4x sin 4y on a 2 × 2 grid over [−1, 1]², exact normals (the coarse wave
-        // of `tests/refinement.rs`, whose face tetrahedra overlap with the paper's apexes).
-        let n = 2;
-        let (mut p, mut normals, mut t) = (Vec::new(), Vec::new(), Vec::new());
-        for j in 0..=n {
-            for i in 0..=n {
-                let (x, y) = (
-                    -1.0 + 2.0 * i as f64 / n as f64,
-                    -1.0 + 2.0 * j as f64 / n as f64,
-                );
-                let (s, c) = ((4.0 * x).sin(), (4.0 * x).cos());
-                let (sy, cy) = ((4.0 * y).sin(), (4.0 * y).cos());
-                p.push(DVec3::new(x, y, 0.5 * s * sy));
-                normals.push(DVec3::new(-2.0 * c * sy, -2.0 * s * cy, 1.0).normalize());
-            }
-        }
-        let id = |i: usize, j: usize| (j * (n + 1) + i) as u32;
-        for j in 0..n {
-            for i in 0..n {
-                t.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
-                t.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
-            }
-        }
-        let options = HullOptions {
-            apex: crate::ApexPlacement::FaceNormal,
-            max_refinement_rounds: 0,
-            check_intersections: false,
-            ..HullOptions::default()
+impl TetIndex {
+    /// The overlaps of the tetrahedra `new` (made by a refinement round, in
+    /// [`RoundTet::order`]) with every tetrahedron of the hull, each pair once, in that order;
+    /// `new` joins the index.
+    ///
+    /// Each new tetrahedron (a few hundred of the bunny's 270 k) is queried against the first
+    /// round's tree and the tetrahedra later rounds made. A tetrahedron found there counts
+    /// when `resolve` (the hull as it is now) gives a tetrahedron with the same name (a face
+    /// by id, an edge by its vertices, and the side) and the same four vertices: then it is
+    /// that tetrahedron. Every tetrahedron of the hull is there, as it was made either by the
+    /// first round or by a later one; every pair of two tetrahedra that are not new was
+    /// checked when the later of them was made, and did not overlap (had it overlapped, its
+    /// faces would have been bisected, changing their corners; overlaps left alone as the
+    /// input's are reported by [`SimplicialHull::distant_intersections`], which checks every
+    /// pair).
+    pub(crate) fn overlaps_of(
+        &mut self,
+        new: &[RoundTet],
+        resolve: impl Fn(TetKey) -> Option<RoundTet> + Sync,
+        tol: f64,
+    ) -> Vec<Overlap> {
+        let name = |t: &RoundTet| match t.part {
+            Part::Face(f) => TetKey::Face(f, t.side),
+            Part::Edge { vertices, .. } => TetKey::Edge(vertices, t.side),
         };
-        let hull = SimplicialHull::new(&p, &t, &normals, &options).unwrap();
-        let (all, mut index) = hull.indexed_intersections();
-        assert_eq!(all, hull.intersections());
-        assert!(all.len() > 3, "the test needs overlaps: {}", all.len());
-        let (nf, ne) = (hull.faces().len(), hull.edges().len());
-        for (faces, edges) in [
-            (vec![true; nf], vec![true; ne]),
-            (vec![false; nf], vec![false; ne]),
-            (
-                (0..nf).map(|f| f % 3 == 0).collect(),
-                (0..ne).map(|e| e % 2 == 0).collect(),
-            ),
-        ] {
-            let marked = |el: crate::Element| match el {
-                crate::Element::Face(f) => faces[f as usize],
-                crate::Element::Edge(e) => edges[e as usize],
-            };
-            let want: Vec<_> = all
-                .iter()
-                .filter(|h| marked(h.first.element) || marked(h.second.element))
-                .copied()
-                .collect();
-            // The index gains the marked tetrahedra each time, as a round's would: the same
-            // tetrahedra again, which must not give a pair twice.
-            assert_eq!(hull.fresh_intersections(&mut index, &faces, &edges), want);
+        if !new.is_empty() {
+            let tree = MortonBvh::with_leaf_size(
+                new.iter().map(|t| tet_box(&t.vertices)).collect(),
+                TET_LEAF_SIZE,
+            );
+            let order = tree.order();
+            let keys = order.iter().map(|&i| name(&new[i as usize])).collect();
+            let verts = order.iter().map(|&i| new[i as usize].vertices).collect();
+            self.trees.push(Indexed { tree, keys, verts });
         }
+        let trees = &self.trees;
+        let mut pairs: Vec<Overlap> = new
+            .par_iter()
+            .map_init(Vec::new, |stack, t| {
+                let b = tet_box(&t.vertices);
+                let mut candidates: Vec<(TetKey, &[DVec3; 4])> = Vec::new();
+                for indexed in trees {
+                    indexed.tree.overlapping_slots(&b, stack, |slot| {
+                        candidates.push((indexed.keys[slot], &indexed.verts[slot]));
+                    });
+                }
+                let mut out = Vec::new();
+                for (key, v) in candidates {
+                    let Some(u) =
+                        resolve(key).filter(|u| u.order() != t.order() && u.vertices == *v)
+                    else {
+                        continue;
+                    };
+                    let (first, second) = if t.order() < u.order() {
+                        (*t, u)
+                    } else {
+                        (u, *t)
+                    };
+                    let depth = depth_beyond(&first.vertices, &second.vertices, tol);
+                    if depth > tol {
+                        out.push(Overlap {
+                            first,
+                            second,
+                            depth,
+                        });
+                    }
+                }
+                out
+            })
+            .flatten_iter()
+            .collect();
+        // A pair of two new tetrahedra is met from both; a tetrahedron can be listed twice
+        // (a later round remade it as it was).
+        let orders = |o: &Overlap| (o.first.order(), o.second.order());
+        pairs.sort_unstable_by_key(orders);
+        pairs.dedup_by_key(|o| orders(o));
+        pairs
     }
 }

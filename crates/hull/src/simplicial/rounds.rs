@@ -1,0 +1,545 @@
+//! The refinement rounds after the first (§3.1), each rebuilding and checking only what its
+//! splits changed.
+//!
+//! The first round builds every face and edge of the mesh and checks every pair of tetrahedra
+//! (`intersect`). A later round bisects a few hundred faces of the bunny's 70 k; rebuilding
+//! the mesh's topology, every face and edge record and the tetrahedra's numbering for them
+//! cost 55–70 ms a round on the bunny (four rounds: about 250 ms, an eighth of its
+//! construction), almost all of it copying what did not change. Here a round rebuilds the
+//! faces its splits changed or appended, and the edges of those faces, from the edited mesh
+//! alone, and checks their tetrahedra against the first round's tree
+//! ([`TetIndex::overlaps_of`]); the topology and the edge numbering are made once, by
+//! [`Rounds::finish`], when no round is left.
+//!
+//! A round names its tetrahedra without edge ids ([`Part`]): an edge by its vertices. Pairs
+//! are ordered as the whole hull's numbering orders them (faces by id, then edges by their
+//! vertex ids, the topology's order; positive before negative), so the refinement, which
+//! bisects the faces of the overlaps in that order, is the one a rebuild of everything gives
+//! (`local_rounds_find_the_overlaps_of_a_rebuild_of_everything` below).
+
+use super::intersect::{TetIndex, TetKey};
+use crate::classify::Side;
+use crate::crossing::CrossingZone;
+use crate::hull::{HullEdge, HullFace, Inputs, longest_edge};
+use crate::refine::{RefineState, key};
+use crate::{HullError, HullOptions};
+use glam::DVec3;
+use rayon::prelude::*;
+use std::collections::HashMap;
+
+/// The face or edge a tetrahedron of a round belongs to, named without the topology's edge
+/// ids (which a round does not have).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Part {
+    /// A face, by id (a face keeps its id while refinement splits it).
+    Face(u32),
+    /// An edge `[i, j]` (oriented as in `face_k`) with its faces.
+    Edge {
+        vertices: [u32; 2],
+        face_k: u32,
+        face_l: Option<u32>,
+    },
+}
+
+impl Part {
+    /// The faces of the part: one for a face, one or two for an edge.
+    pub(crate) fn faces(&self) -> impl Iterator<Item = u32> {
+        let (first, second) = match *self {
+            Part::Face(f) => (f, None),
+            Part::Edge { face_k, face_l, .. } => (face_k, face_l),
+        };
+        std::iter::once(first).chain(second)
+    }
+
+    /// The part's edges as keys: three for a face (`[i j]`, `[j k]`, `[k i]`), one for an edge.
+    fn edge_keys(&self, triangles: &[[u32; 3]]) -> Vec<[u32; 2]> {
+        match *self {
+            Part::Face(f) => {
+                let t = triangles[f as usize];
+                (0..3).map(|c| key(t[c], t[(c + 1) % 3])).collect()
+            }
+            Part::Edge {
+                vertices: [a, b], ..
+            } => vec![key(a, b)],
+        }
+    }
+}
+
+/// A tetrahedron of the hull named by its [`Part`] and side.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct RoundTet {
+    pub(crate) part: Part,
+    pub(crate) side: Side,
+    pub(crate) vertices: [DVec3; 4],
+}
+
+impl RoundTet {
+    /// The tetrahedron's place in the whole hull's numbering (`SimplicialHull::tetrahedra`):
+    /// faces by id, then edges in the topology's order (by their `[smaller, larger]` vertex
+    /// ids), the positive tetrahedron of an element before the negative.
+    pub(crate) fn order(&self) -> (u8, u64, u8) {
+        let side = (self.side == Side::Negative) as u8;
+        match self.part {
+            Part::Face(f) => (0, f as u64, side),
+            Part::Edge {
+                vertices: [a, b], ..
+            } => {
+                let [lo, hi] = key(a, b);
+                (1, (lo as u64) << 32 | hi as u64, side)
+            }
+        }
+    }
+}
+
+/// Two tetrahedra of a round whose interiors overlap, `first` before `second` in
+/// [`RoundTet::order`], with their [`crate::overlap_depth`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Overlap {
+    pub(crate) first: RoundTet,
+    pub(crate) second: RoundTet,
+    pub(crate) depth: f64,
+}
+
+/// Whether refinement cannot remove `overlap` (`SimplicialHull::distant_intersections`): its
+/// tetrahedra lie in different connected components (`component` of a face), or around two
+/// input faces that cross (`zone`; `face_map` maps faces to input faces).
+pub(crate) fn unremovable(
+    component: impl Fn(u32) -> u32,
+    zone: &CrossingZone,
+    face_map: &[u32],
+    overlap: &Overlap,
+) -> bool {
+    let (a, b) = (overlap.first.part, overlap.second.part);
+    let first_face = |p: Part| p.faces().next().unwrap_or(0);
+    if component(first_face(a)) != component(first_face(b)) {
+        return true;
+    }
+    a.faces().any(|x| {
+        b.faces()
+            .any(|y| zone.contains(face_map[x as usize], face_map[y as usize]))
+    })
+}
+
+/// The edge an overlap is named by (as a key): the edge its two parts share, else the longest
+/// edge of the first part.
+pub(crate) fn conflict_edge(
+    overlap: &Overlap,
+    positions: &[DVec3],
+    triangles: &[[u32; 3]],
+) -> [u32; 2] {
+    let ea = overlap.first.part.edge_keys(triangles);
+    let eb = overlap.second.part.edge_keys(triangles);
+    if let Some(&e) = ea.iter().find(|e| eb.contains(e)) {
+        return e;
+    }
+    let length = |[a, b]: [u32; 2]| positions[a as usize].distance(positions[b as usize]);
+    ea.iter()
+        .copied()
+        .max_by(|&x, &y| length(x).total_cmp(&length(y)))
+        .unwrap_or([0, 0])
+}
+
+/// Names the tallest face tetrahedron among `overlaps` and the corner normal that makes it
+/// tall: §3.1's apex height `t_l = (p_l − c)ᵀn_l / n_ijkᵀn_l` grows without bound as `n_l`
+/// turns into the face's plane, and refinement only helps when the faces around `p_l`
+/// turn towards the plane orthogonal to `n_l`, which they do not at a sharp rim.
+pub(crate) fn tallest_explained(
+    overlaps: &[Overlap],
+    faces: &[HullFace],
+    positions: &[DVec3],
+    normals: &[DVec3],
+    face_map: &[u32],
+    input_vertex_count: usize,
+) -> String {
+    let mut best: Option<(f64, u32, Side)> = None;
+    for h in overlaps {
+        for t in [h.first, h.second] {
+            for f in t.part.faces() {
+                let face = &faces[f as usize];
+                let Some(tet) = face.tetrahedron(t.side) else {
+                    continue;
+                };
+                let ratio =
+                    tet.t.abs() / longest_edge(face.vertices.map(|v| positions[v as usize]));
+                if best.is_none_or(|(r, _, _)| ratio > r) {
+                    best = Some((ratio, f, t.side));
+                }
+            }
+        }
+    }
+    let Some((ratio, f, side)) = best else {
+        return "the intersecting tetrahedra are edge tetrahedra only".to_string();
+    };
+    let face = &faces[f as usize];
+    let (v, cos) = face
+        .vertices
+        .iter()
+        .map(|&v| (v, face.normal.dot(normals[v as usize].normalize())))
+        .min_by(|x, y| x.1.total_cmp(&y.1))
+        .expect("a face has three corners");
+    let which = if (v as usize) < input_vertex_count {
+        format!("input vertex {v}")
+    } else {
+        format!("vertex {v} inserted by refinement")
+    };
+    format!(
+        "the tallest of them, the {} tetrahedron of face {f} (in input face {}), stands \
+         {ratio:.2} times its longest edge off the face; the normal of its corner {which} is \
+         {:.1}° from the face's normal (a sharp rim or fold: smoothing or re-meshing it \
+         there, or other normals, helps)",
+        side.name(),
+        face_map[f as usize],
+        cos.clamp(-1.0, 1.0).acos().to_degrees(),
+    )
+}
+
+/// The hull between refinement rounds: every face (current), the first round's edges and the
+/// edges made or removed since.
+struct Current {
+    /// Every face of the current mesh, updated in place and appended as rounds split them.
+    /// Their `edges` ids are the first round's (stale for faces made since) until
+    /// [`Rounds::finish`] numbers the edges again.
+    faces: Vec<HullFace>,
+    /// The first round's edges and their keys (the topology's order, ascending).
+    first_edges: Vec<HullEdge>,
+    first_keys: Vec<[u32; 2]>,
+    /// Edges made (`Some`) or removed by a split (`None`) since the first round, by key.
+    changed: HashMap<[u32; 2], Option<HullEdge>>,
+}
+
+impl Current {
+    /// The current edge with key `k`: made since the first round, or the first round's.
+    fn edge(&self, k: [u32; 2]) -> Option<&HullEdge> {
+        match self.changed.get(&k) {
+            Some(made) => made.as_ref(),
+            None => {
+                let id = self.first_keys.binary_search(&k).ok()?;
+                Some(&self.first_edges[id])
+            }
+        }
+    }
+
+    /// The tetrahedron on `side` of face `f`, as it is now.
+    fn face_tet(&self, f: u32, side: Side) -> Option<RoundTet> {
+        let t = self.faces.get(f as usize)?.tetrahedron(side)?;
+        Some(RoundTet {
+            part: Part::Face(f),
+            side,
+            vertices: *t.tetrahedron.vertices(),
+        })
+    }
+
+    /// The tetrahedron on `side` of the edge with key `k`, as it is now.
+    fn edge_tet(&self, k: [u32; 2], side: Side) -> Option<RoundTet> {
+        let e = self.edge(k)?;
+        let t = e.tetrahedron(side)?;
+        Some(RoundTet {
+            part: Part::Edge {
+                vertices: e.vertices,
+                face_k: e.face_k,
+                face_l: e.face_l,
+            },
+            side,
+            vertices: *t.tetrahedron.vertices(),
+        })
+    }
+
+    /// The tetrahedron a key of the index names, as it is now.
+    fn resolve(&self, name: TetKey) -> Option<RoundTet> {
+        match name {
+            TetKey::Face(f, side) => self.face_tet(f, side),
+            TetKey::Edge([a, b], side) => self.edge_tet(key(a, b), side),
+        }
+    }
+}
+
+/// The refinement rounds after the first: the hull as it is now, and the first round's tree
+/// over every tetrahedron with the tetrahedra made since.
+pub(crate) struct Rounds {
+    hull: Current,
+    index: TetIndex,
+}
+
+impl Rounds {
+    /// The state after the first round: its faces and edges (`first_keys` the edges' keys in
+    /// topology order) and the index its check built.
+    pub(crate) fn new(
+        faces: Vec<HullFace>,
+        first_edges: Vec<HullEdge>,
+        first_keys: Vec<[u32; 2]>,
+        index: TetIndex,
+    ) -> Rounds {
+        debug_assert!(first_keys.is_sorted(), "edges in topology order");
+        Rounds {
+            hull: Current {
+                faces,
+                first_edges,
+                first_keys,
+                changed: HashMap::new(),
+            },
+            index,
+        }
+    }
+
+    /// Every face of the current mesh (edge ids stale until [`Rounds::finish`]).
+    pub(crate) fn faces(&self) -> &[HullFace] {
+        &self.hull.faces
+    }
+
+    /// One round after the splits `state` holds: rebuilds the faces they changed or appended
+    /// and the edges of those faces (as the first round built every face and edge, with the
+    /// same errors in the same order: the edges' structure, the faces, the edge tetrahedra),
+    /// then returns the overlaps of their tetrahedra with any tetrahedron of the hull, in
+    /// [`RoundTet::order`].
+    pub(crate) fn round(
+        &mut self,
+        state: &mut RefineState,
+        opts: &HullOptions,
+    ) -> Result<Vec<Overlap>, HullError> {
+        let changes = state.take_changes();
+        let mut fresh_faces = changes.faces;
+        fresh_faces.sort_unstable();
+        fresh_faces.dedup();
+        let hull = &mut self.hull;
+        for k in changes.removed_edges {
+            hull.changed.insert(k, None);
+        }
+        let (positions, triangles) = state.current();
+        let inputs = Inputs {
+            positions,
+            normals: &state.normals,
+            face_map: &state.face_map,
+            opts,
+        };
+        let third = |t: [u32; 3], [a, b]: [u32; 2]| -> (u32, u32, u32) {
+            let c = (0..3)
+                .find(|&c| key(t[c], t[(c + 1) % 3]) == key(a, b))
+                .expect("the edge is a side of the face it was found in");
+            (t[c], t[(c + 1) % 3], t[(c + 2) % 3])
+        };
+        // The edges of the changed faces, in topology order. Each is built as the whole
+        // build builds it from the topology: `face_k` is the face with the lower id (the
+        // edge's first half-edge is the lower corner id, and corners are numbered by face),
+        // `[i, j]` its direction there.
+        let mut keys: Vec<[u32; 2]> = fresh_faces
+            .iter()
+            .flat_map(|&f| Part::Face(f).edge_keys(triangles))
+            .collect();
+        keys.sort_unstable();
+        keys.dedup();
+        let mut fresh_edges = Vec::with_capacity(keys.len());
+        for &[a, b] in &keys {
+            let faces = state.edge_faces(a, b).unwrap_or_default();
+            if faces.len() > 2 {
+                return Err(HullError::NonManifoldEdge(a, b));
+            }
+            let face_k = faces[0];
+            let (i, j, k) = third(triangles[face_k as usize], [a, b]);
+            let other = match faces.get(1) {
+                Some(&g) => {
+                    let (x, y, l) = third(triangles[g as usize], [a, b]);
+                    if (x, y) != (j, i) {
+                        return Err(HullError::InconsistentOrientation {
+                            edge: [i, j],
+                            faces: [state.face_map[face_k as usize], state.face_map[g as usize]],
+                        });
+                    }
+                    Some((g, l))
+                }
+                None => None,
+            };
+            fresh_edges.push(inputs.edge([i, j], face_k, k, other));
+        }
+        let convexity = |k: [u32; 2]| {
+            let at = keys
+                .binary_search(&k)
+                .expect("a changed face's edges are rebuilt with it");
+            fresh_edges[at].convexity
+        };
+        for &f in &fresh_faces {
+            let t = triangles[f as usize];
+            let edge_keys: [[u32; 2]; 3] = std::array::from_fn(|c| key(t[c], t[(c + 1) % 3]));
+            // Edge ids are given when the topology is made ([`Rounds::finish`]).
+            let face = inputs.face(f as usize, t, [u32::MAX; 3], edge_keys.map(convexity))?;
+            match hull.faces.get_mut(f as usize) {
+                Some(slot) => *slot = face,
+                None => {
+                    debug_assert_eq!(f as usize, hull.faces.len(), "halves are appended");
+                    hull.faces.push(face);
+                }
+            }
+        }
+        for edge in &mut fresh_edges {
+            inputs.edge_tetrahedra(edge, &hull.faces)?;
+        }
+        for (&k, edge) in keys.iter().zip(fresh_edges) {
+            hull.changed.insert(k, Some(edge));
+        }
+        let hull = &self.hull;
+        // The new tetrahedra, in order, and their overlaps with every tetrahedron.
+        let sides = [Side::Positive, Side::Negative];
+        let new: Vec<RoundTet> = fresh_faces
+            .iter()
+            .flat_map(|&f| sides.iter().filter_map(move |&s| hull.face_tet(f, s)))
+            .chain(
+                keys.iter()
+                    .flat_map(|&k| sides.iter().filter_map(move |&s| hull.edge_tet(k, s))),
+            )
+            .collect();
+        Ok(self
+            .index
+            .overlaps_of(&new, |name| hull.resolve(name), opts.overlap_tolerance))
+    }
+
+    /// The faces and edges of the refined mesh, numbered by its topology, which this makes
+    /// (`state.mesh`, from the edits): the edges as the last round left them, in topology
+    /// order, and every face's edge ids.
+    pub(crate) fn finish(
+        self,
+        state: &mut RefineState,
+    ) -> Result<(Vec<HullFace>, Vec<HullEdge>), HullError> {
+        state.finish_round()?;
+        let topo = state.mesh.topology();
+        let edges: Vec<HullEdge> = (0..topo.edge_count() as u32)
+            .into_par_iter()
+            .map(|e| {
+                let k = topo.edge(e);
+                self.hull
+                    .edge(k)
+                    .expect("every edge of the refined mesh was built by some round")
+                    .clone()
+            })
+            .collect();
+        let mut faces = self.hull.faces;
+        faces.par_iter_mut().enumerate().for_each(|(f, face)| {
+            let first = topo.face_corners(f).start;
+            face.edges = std::array::from_fn(|c| topo.corner_edge(first + c as u32));
+        });
+        Ok((faces, edges))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::hull::build;
+    use crate::{ApexPlacement, SimplicialHull};
+    use algesurf_mesh::TriMesh;
+
+    /// `z = a sin(ωx) sin(ωy)` on an `n × n` grid over `[−1, 1]²` with exact unit normals,
+    /// counter-clockwise seen from +z: with the paper's apexes on the face normals, adjacent
+    /// tetrahedra overlap, and refinement needs several rounds to separate them.
+    fn wave(n: usize, a: f64, w: f64) -> (TriMesh, Vec<DVec3>) {
+        let (mut p, mut normals, mut t) = (Vec::new(), Vec::new(), Vec::new());
+        for j in 0..=n {
+            for i in 0..=n {
+                let (x, y) = (
+                    -1.0 + 2.0 * i as f64 / n as f64,
+                    -1.0 + 2.0 * j as f64 / n as f64,
+                );
+                let (sx, cx, sy, cy) = ((w * x).sin(), (w * x).cos(), (w * y).sin(), (w * y).cos());
+                p.push(DVec3::new(x, y, a * sx * sy));
+                normals.push(DVec3::new(-a * w * cx * sy, -a * w * sx * cy, 1.0).normalize());
+            }
+        }
+        let id = |i: usize, j: usize| (j * (n + 1) + i) as u32;
+        for j in 0..n {
+            for i in 0..n {
+                t.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+                t.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+            }
+        }
+        (TriMesh::new(p, t).unwrap(), normals)
+    }
+
+    fn paper() -> HullOptions {
+        HullOptions {
+            apex: ApexPlacement::FaceNormal,
+            ..HullOptions::default()
+        }
+    }
+
+    /// Each round's overlaps are those of a hull rebuilt in full on the round's mesh whose
+    /// pairs have a tetrahedron of a changed face or of one of its edges, in the same order
+    /// with the same depths; after the last round, the faces and edges are those of a build
+    /// from scratch, edge ids included.
+    #[test]
+    fn local_rounds_find_the_overlaps_of_a_rebuild_of_everything() {
+        let opts = paper();
+        let whole = HullOptions {
+            check_intersections: false,
+            max_refinement_rounds: 0,
+            ..paper()
+        };
+        let (mut rounds_run, mut overlaps_seen) = (0, 0);
+        // Four, four and twelve rounds (28, 63 and 280 splits) with a whole loop.
+        for (n, a, w) in [(2, 0.4, 5.0), (3, 0.2, 5.0), (5, 0.3, 5.0)] {
+            let (mesh, normals) = wave(n, a, w);
+            let hull = SimplicialHull::from_mesh(&mesh, &normals, &whole).unwrap();
+            let (found, index) = hull.indexed_intersections();
+            let mut overlaps: Vec<Overlap> = found.iter().map(|h| hull.overlap(h)).collect();
+            assert!(!overlaps.is_empty(), "the test needs overlaps");
+            let keys = hull.mesh.topology().edges().to_vec();
+            let mut rounds = Rounds::new(hull.faces.clone(), hull.edges.clone(), keys, index);
+            let mut state = RefineState::new(mesh, normals);
+            for round in 0..16 {
+                let before = state.current().1.to_vec();
+                for o in &overlaps {
+                    for f in o.first.part.faces().chain(o.second.part.faces()) {
+                        state.bisect_face(f, before[f as usize], round).unwrap();
+                    }
+                }
+                let got = rounds.round(&mut state, &opts).unwrap();
+                let (positions, triangles) = state.current();
+                let fresh = |f: u32| before.get(f as usize) != Some(&triangles[f as usize]);
+                let fresh_tet = |t: &RoundTet| t.part.faces().any(fresh);
+                let full =
+                    SimplicialHull::new(positions, triangles, &state.normals, &whole).unwrap();
+                let want: Vec<Overlap> = full
+                    .intersections()
+                    .iter()
+                    .map(|h| full.overlap(h))
+                    .filter(|o| fresh_tet(&o.first) || fresh_tet(&o.second))
+                    .collect();
+                assert_eq!(got, want, "n = {n}, round {round}");
+                rounds_run += 1;
+                overlaps_seen += got.len();
+                overlaps = got;
+                if overlaps.is_empty() {
+                    break;
+                }
+            }
+            assert!(
+                overlaps.is_empty(),
+                "n = {n}: sixteen rounds were not enough"
+            );
+            let (faces, edges) = rounds.finish(&mut state).unwrap();
+            let (scratch_faces, scratch_edges) =
+                build(&state.mesh, &state.normals, &state.face_map, &opts).unwrap();
+            assert_eq!(faces, scratch_faces, "n = {n}");
+            assert_eq!(edges, scratch_edges, "n = {n}");
+        }
+        assert!(
+            rounds_run >= 17 && overlaps_seen >= 50,
+            "{rounds_run} rounds, {overlaps_seen} overlaps after the first"
+        );
+    }
+
+    /// The whole loop (`SimplicialHull::new`) ends in the hull a build from scratch gives on
+    /// the refined mesh, with no overlap left.
+    #[test]
+    fn refined_hull_is_the_hull_of_its_mesh() {
+        let (mesh, normals) = wave(5, 0.3, 5.0);
+        let hull = SimplicialHull::from_mesh(&mesh, &normals, &paper()).unwrap();
+        assert!(
+            hull.refinements().len() > 100,
+            "{}",
+            hull.refinements().len()
+        );
+        let (faces, edges) =
+            build(hull.mesh(), hull.normals(), hull.face_map(), hull.options()).unwrap();
+        assert_eq!(hull.faces(), faces.as_slice());
+        assert_eq!(hull.edges(), edges.as_slice());
+        assert!(hull.intersections().is_empty());
+    }
+}
