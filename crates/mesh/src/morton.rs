@@ -122,15 +122,23 @@ impl MortonBvh {
             let q = |k: usize| ((c[k] * scale[k]) as u64).min(cells as u64);
             spread(q(0)) | (spread(q(1)) << 1) | (spread(q(2)) << 2)
         };
-        let mut keyed: Vec<(u64, u32)> = boxes
-            .par_iter()
-            .enumerate()
-            .map(|(i, b)| (code(b), i as u32))
-            .collect();
-        // Ties broken by id: the tree, and every traversal order, is deterministic.
-        keyed.par_sort_unstable();
+        // Ties broken by id: the tree, and every traversal order, is deterministic (and the
+        // same in parallel and in series).
+        let serial = boxes.len() < crate::parallel::SERIAL_BELOW;
+        let keyed_at = |(i, b): (usize, &(DVec3, DVec3))| (code(b), i as u32);
+        let mut keyed: Vec<(u64, u32)>;
+        let sorted: Vec<(DVec3, DVec3)>;
+        if serial {
+            keyed = boxes.iter().enumerate().map(keyed_at).collect();
+            keyed.sort_unstable();
+            sorted = keyed.iter().map(|k| boxes[k.1 as usize]).collect();
+        } else {
+            keyed = boxes.par_iter().enumerate().map(keyed_at).collect();
+            keyed.par_sort_unstable();
+            sorted = keyed.par_iter().map(|k| boxes[k.1 as usize]).collect();
+        }
         let mut b = MortonBvh {
-            sorted: keyed.par_iter().map(|k| boxes[k.1 as usize]).collect(),
+            sorted,
             order: keyed.iter().map(|k| k.1).collect(),
             codes: keyed.iter().map(|k| k.0).collect(),
             nodes: Vec::with_capacity(2 * keyed.len() / leaf + 1),
