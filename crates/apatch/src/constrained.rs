@@ -605,13 +605,16 @@ fn dense_solve(
             (None, None) => y[col[class_of[j]]],
         })
         .collect();
-    // Residual of every row, eliminated ones included, at the final coefficients.
-    let amax = |v: &mut dyn Iterator<Item = f64>| v.fold(0.0f64, |m, x| m.max(x.abs()));
-    let worst = amax(
-        &mut sys
-            .rows()
-            .map(|(terms, r)| r - terms.iter().map(|&(j, w)| w * x[j]).sum::<f64>()),
-    );
-    let size_of = amax(&mut sys.rhs.iter().copied()).max(amax(&mut target.iter().copied()));
+    // Residual of every row, eliminated ones included, at the final coefficients. A plain
+    // loop over the rows: through an iterator of rows behind `&mut dyn Iterator` this was 13 %
+    // of a split face's samples on the bunny (the same sums, so the same value).
+    let mut worst = 0.0f64;
+    for (i, &r) in sys.rhs.iter().enumerate() {
+        let terms = &sys.terms[sys.starts[i]..sys.starts[i + 1]];
+        let dot: f64 = terms.iter().map(|&(j, w)| w * x[j]).sum();
+        worst = worst.max((r - dot).abs());
+    }
+    let amax = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let size_of = amax(&sys.rhs).max(amax(target));
     (x, worst / size_of.max(f64::MIN_POSITIVE), m)
 }
