@@ -13,7 +13,7 @@ use std::hash::{BuildHasherDefault, Hasher};
 /// avalanche, so that hashbrown, which takes its control bits from the top of the hash,
 /// sees well-mixed high bits also for small, sequential keys.
 #[derive(Default, Clone, Copy)]
-pub(crate) struct FastHasher(u64);
+pub struct FastHasher(u64);
 
 const K: u64 = 0xf135_7aea_2e62_a9c5;
 
@@ -70,10 +70,10 @@ impl Hasher for FastHasher {
 }
 
 /// A `HashMap` with [`FastHasher`].
-pub(crate) type FastMap<K, V> = std::collections::HashMap<K, V, BuildHasherDefault<FastHasher>>;
+pub type FastMap<K, V> = std::collections::HashMap<K, V, BuildHasherDefault<FastHasher>>;
 
 /// A `HashSet` with [`FastHasher`].
-pub(crate) type FastSet<K> = std::collections::HashSet<K, BuildHasherDefault<FastHasher>>;
+pub type FastSet<K> = std::collections::HashSet<K, BuildHasherDefault<FastHasher>>;
 
 /// A face's vertex set as a hashable key without a heap allocation for faces of up to four
 /// corners (sorted ids, padded with `u32::MAX`, plus the corner count so padding can never

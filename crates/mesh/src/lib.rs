@@ -39,7 +39,7 @@
 #![warn(missing_docs)]
 
 mod error;
-mod fasthash;
+pub mod fasthash;
 pub mod geometry;
 pub mod polygon;
 pub mod topology;

@@ -2,10 +2,10 @@
 //! pair once for a new hull, and after a refinement round only the pairs with a new
 //! tetrahedron.
 
-use super::rounds::{Overlap, Part, RoundTet};
+use super::rounds::{Overlap, RoundTet};
 use super::{Element, HullTetrahedron, Intersection, SimplicialHull};
 use crate::Side;
-use crate::overlap::{FacePlanes, common_diagonal, depth_beyond, depth_until, tet_box};
+use crate::overlap::{FacePlanes, common_diagonal, depth_until, tet_box};
 use algesurf_mesh::morton::MortonBvh;
 use glam::DVec3;
 use rayon::prelude::*;
@@ -86,11 +86,14 @@ impl SimplicialHull {
         (
             checked.hits,
             TetIndex {
-                trees: vec![Indexed {
+                first: Indexed {
                     tree: checked.tree,
                     keys: checked.keys,
                     verts: checked.verts,
-                }],
+                    planes: checked.planes,
+                },
+                later: Vec::new(),
+                later_tree: None,
             },
         )
     }
@@ -152,6 +155,7 @@ impl SimplicialHull {
             tree: bvh,
             keys,
             verts,
+            planes,
         }
     }
 
@@ -167,12 +171,14 @@ impl SimplicialHull {
 }
 
 /// What [`SimplicialHull::intersections`] found and what it worked on: the tree over every
-/// tetrahedron's box, and each tetrahedron's key and vertices in the tree's slot order.
+/// tetrahedron's box, and each tetrahedron's key, vertices and face planes in the tree's slot
+/// order.
 struct EveryPair {
     hits: Vec<Intersection>,
     tree: MortonBvh,
     keys: Vec<TetKey>,
     verts: Vec<[DVec3; 4]>,
+    planes: Vec<FacePlanes>,
 }
 
 /// A hull tetrahedron named independently of the refinement round: a face by its id (which a
@@ -184,21 +190,58 @@ pub(crate) enum TetKey {
     Edge([u32; 2], Side),
 }
 
-/// A tree over tetrahedra's boxes with each slot's key and vertices.
+impl TetKey {
+    /// The tetrahedron's place in the whole hull's numbering (`SimplicialHull::tetrahedra`):
+    /// faces by id, then edges in the topology's order (by their `[smaller, larger]` vertex
+    /// ids), the positive tetrahedron of an element before the negative.
+    pub(crate) fn order(&self) -> (u8, u64, u8) {
+        let rank = |side: Side| (side == Side::Negative) as u8;
+        match *self {
+            TetKey::Face(f, side) => (0, f as u64, rank(side)),
+            TetKey::Edge([a, b], side) => {
+                let (lo, hi) = (a.min(b), a.max(b));
+                (1, (lo as u64) << 32 | hi as u64, rank(side))
+            }
+        }
+    }
+}
+
+/// A tree over tetrahedra's boxes with each slot's key, vertices and face planes.
 struct Indexed {
     tree: MortonBvh,
     keys: Vec<TetKey>,
     verts: Vec<[DVec3; 4]>,
+    planes: Vec<FacePlanes>,
+}
+
+impl Indexed {
+    /// The tree over `tets` (key, vertices, face planes), copied into its slot order.
+    fn over(tets: &[(TetKey, [DVec3; 4], FacePlanes)]) -> Indexed {
+        let tree =
+            MortonBvh::with_leaf_size(tets.iter().map(|t| tet_box(&t.1)).collect(), TET_LEAF_SIZE);
+        let at = |i: &u32| &tets[*i as usize];
+        Indexed {
+            keys: tree.order().iter().map(|i| at(i).0).collect(),
+            verts: tree.order().iter().map(|i| at(i).1).collect(),
+            planes: tree.order().iter().map(|i| at(i).2).collect(),
+            tree,
+        }
+    }
 }
 
 /// Every tetrahedron made so far, for [`TetIndex::overlaps_of`]: the first round's tree over
-/// every tetrahedron of the hull, then one tree per later round over the tetrahedra it made.
+/// every tetrahedron of the hull, and a tree over the tetrahedra later rounds made, rebuilt by
+/// each round (a few thousand on the bunny, a hundred thousand or so over Suzanne's 17
+/// rounds: a few milliseconds of sorting per round).
 ///
-/// A tree per round, not a list: Suzanne's 17 rounds make 5 272 splits, and scanning a list
-/// of every tetrahedron made since for each new one was 80 % of its `perf` samples (the
-/// hull took 9–11 s).
+/// Each tetrahedron's face planes are kept with it, computed once. Scanning a list of the
+/// later tetrahedra for each new one was 80 % of Suzanne's `perf` samples (the hull took
+/// 9–11 s); one tree per round still left 17 trees to descend per query, and computing both
+/// tetrahedra's planes for every candidate pair was another 14 %.
 pub(crate) struct TetIndex {
-    trees: Vec<Indexed>,
+    first: Indexed,
+    later: Vec<(TetKey, [DVec3; 4], FacePlanes)>,
+    later_tree: Option<Indexed>,
 }
 
 impl TetIndex {
@@ -222,51 +265,56 @@ impl TetIndex {
         resolve: impl Fn(TetKey) -> Option<RoundTet> + Sync,
         tol: f64,
     ) -> Vec<Overlap> {
-        let name = |t: &RoundTet| match t.part {
-            Part::Face(f) => TetKey::Face(f, t.side),
-            Part::Edge { vertices, .. } => TetKey::Edge(vertices, t.side),
-        };
+        self.later.extend(
+            new.iter()
+                .map(|t| (t.key(), t.vertices, FacePlanes::of(&t.vertices))),
+        );
         if !new.is_empty() {
-            let tree = MortonBvh::with_leaf_size(
-                new.iter().map(|t| tet_box(&t.vertices)).collect(),
-                TET_LEAF_SIZE,
-            );
-            let order = tree.order();
-            let keys = order.iter().map(|&i| name(&new[i as usize])).collect();
-            let verts = order.iter().map(|&i| new[i as usize].vertices).collect();
-            self.trees.push(Indexed { tree, keys, verts });
+            self.later_tree = Some(Indexed::over(&self.later));
         }
-        let trees = &self.trees;
+        let trees: Vec<&Indexed> = std::iter::once(&self.first)
+            .chain(&self.later_tree)
+            .collect();
         let mut pairs: Vec<Overlap> = new
             .par_iter()
             .map_init(Vec::new, |stack, t| {
+                let order = t.key().order();
+                let planes = FacePlanes::of(&t.vertices);
                 let b = tet_box(&t.vertices);
-                let mut candidates: Vec<(TetKey, &[DVec3; 4])> = Vec::new();
-                for indexed in trees {
-                    indexed.tree.overlapping_slots(&b, stack, |slot| {
-                        candidates.push((indexed.keys[slot], &indexed.verts[slot]));
-                    });
-                }
                 let mut out = Vec::new();
-                for (key, v) in candidates {
-                    let Some(u) =
-                        resolve(key).filter(|u| u.order() != t.order() && u.vertices == *v)
-                    else {
-                        continue;
-                    };
-                    let (first, second) = if t.order() < u.order() {
-                        (*t, u)
-                    } else {
-                        (u, *t)
-                    };
-                    let depth = depth_beyond(&first.vertices, &second.vertices, tol);
-                    if depth > tol {
+                for indexed in &trees {
+                    indexed.tree.overlapping_slots(&b, stack, |slot| {
+                        let (key, v) = (indexed.keys[slot], &indexed.verts[slot]);
+                        let other = key.order();
+                        if other == order {
+                            return; // t itself, as listed when it was made
+                        }
+                        // A listed tetrahedron counts if it is still the hull's: the hull's
+                        // own with the same name has the same vertices. Checked before the
+                        // overlap: the index keeps every tetrahedron a round replaced, and
+                        // those overlap their replacements (Suzanne's hull took 50 % longer
+                        // with the overlap computed first).
+                        let Some(u) = resolve(key).filter(|u| u.vertices == *v) else {
+                            return;
+                        };
+                        // `depth_beyond` of the pair in order, with the planes at hand.
+                        let ((va, pa), (vb, pb)) = if order < other {
+                            ((&t.vertices, &planes), (v, &indexed.planes[slot]))
+                        } else {
+                            ((v, &indexed.planes[slot]), (&t.vertices, &planes))
+                        };
+                        let d = common_diagonal(&tet_box(va), &tet_box(vb));
+                        let depth = depth_until(va, pa, vb, pb, d, tol);
+                        if depth <= tol {
+                            return;
+                        }
+                        let (first, second) = if order < other { (*t, u) } else { (u, *t) };
                         out.push(Overlap {
                             first,
                             second,
                             depth,
                         });
-                    }
+                    });
                 }
                 out
             })
