@@ -7,9 +7,9 @@
 //! cost 55–70 ms a round on the bunny (four rounds: about 250 ms, an eighth of its
 //! construction), almost all of it copying what did not change. Here a round rebuilds the
 //! faces its splits changed or appended, and the edges of those faces, from the edited mesh
-//! alone, and checks their tetrahedra against the first round's tree
-//! ([`TetIndex::overlaps_of`]); the topology and the edge numbering are made once, by
-//! [`Rounds::finish`], when no round is left.
+//! alone, and checks their tetrahedra against the first round's tree and a tree over the
+//! tetrahedra later rounds made ([`TetIndex::overlaps_of`]); the topology and the edge
+//! numbering are made once, by [`Rounds::finish`], when no round is left.
 //!
 //! A round names its tetrahedra without edge ids ([`Part`]): an edge by its vertices. Pairs
 //! are ordered as the whole hull's numbering orders them (faces by id, then edges by their
@@ -331,7 +331,10 @@ impl Rounds {
             if faces.len() > 2 {
                 return Err(HullError::NonManifoldEdge(a, b));
             }
-            let face_k = faces[0];
+            // A changed face's side is an edge of the edited mesh: never empty.
+            let Some(&face_k) = faces.first() else {
+                return Err(algesurf_mesh::MeshError::NoSuchEdge(a, b).into());
+            };
             let (i, j, k) = third(triangles[face_k as usize], [a, b]);
             let other = match faces.get(1) {
                 Some(&g) => {
