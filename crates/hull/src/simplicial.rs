@@ -124,7 +124,8 @@ impl SimplicialHull {
         normals: &[DVec3],
         options: &HullOptions,
     ) -> Result<SimplicialHull, HullError> {
-        Self::new(mesh.positions(), mesh.triangles(), normals, options)
+        // The mesh's own topology, copied rather than built again (`TriMesh::plain_copy`).
+        Self::build(mesh.plain_copy(), normals.to_vec(), options)
     }
 
     fn build(

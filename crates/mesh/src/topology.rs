@@ -61,8 +61,9 @@ pub struct Component {
     pub genus: Option<u32>,
 }
 
-/// Corner-table adjacency of a mesh with polygonal faces.
-#[derive(Clone, Debug)]
+/// Corner-table adjacency of a mesh with polygonal faces. Two topologies are equal when
+/// every table is (the same faces in the same order give the same tables).
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Topology {
     vertex_count: usize,
     face_offsets: Vec<u32>,
