@@ -192,3 +192,45 @@ fn set_and_retessellate_one_face(bencher: Bencher, name: &str) {
             .expect("retessellation")
     });
 }
+
+/// `SplitFace::new` alone (the three-cubics-per-side construction of a nonconvex face, about
+/// 40 % of the bunny's function stage), on every nonconvex face of the torus's hull: its
+/// corners, Loop normals, both apexes and the mid-edge gradients the construction uses, with
+/// the plane through the face centroid as the quadric and the plane's values at the apexes
+/// as the free parameters. Counted in split faces.
+#[divan::bench(sample_count = 30, sample_size = 5)]
+fn split_face(bencher: Bencher) {
+    use algesurf::apatch::{Quadric, SplitFace, VertexData};
+    use algesurf::hull::Convexity;
+    let (m, n) = mesh("torus24x12");
+    let hull = SimplicialHull::from_mesh(&m, &n, &Default::default()).expect("hull");
+    let inputs: Vec<_> = hull
+        .faces()
+        .iter()
+        .filter(|f| f.convexity == Convexity::Nonconvex)
+        .map(|f| {
+            let v = f.vertices.map(|i| VertexData {
+                position: hull.mesh().positions()[i as usize],
+                gradient: hull.normals()[i as usize],
+            });
+            let g = v.map(|x| x.gradient);
+            let mids = [0, 1, 2].map(|a| (g[(a + 1) % 3] + g[(a + 2) % 3]) * 0.5);
+            let apexes = [f.u().expect("u"), f.v().expect("v")];
+            let q = Quadric {
+                a: glam::DMat3::ZERO,
+                b: f.normal,
+                c: -f.normal.dot(f.centroid),
+            };
+            let values = apexes.map(|a| q.value(a));
+            (v, apexes, mids, q, values)
+        })
+        .collect();
+    assert!(inputs.len() > 100, "{} split faces", inputs.len());
+    bencher
+        .counter(ItemsCount::new(inputs.len()))
+        .bench_local(|| {
+            for (v, apexes, mids, q, values) in &inputs {
+                black_box(SplitFace::new(*v, apexes, *mids, q, values).expect("split face"));
+            }
+        });
+}
