@@ -278,9 +278,9 @@ impl SimplicialHull {
             let hit = &hits[0];
             let [a, b] = rounds::conflict_edge(hit, positions, triangles);
             // The overlap is named by an input edge and the input faces of its two parts.
-            let first_face = |t: &rounds::RoundTet| t.part.faces().next().unwrap_or(0);
             let edge = state.input_edge(a, b);
-            let faces = [hit.first, hit.second].map(|t| state.face_map[first_face(&t) as usize]);
+            let faces =
+                [hit.first, hit.second].map(|t| state.face_map[t.part.first_face() as usize]);
             let unresolved = |rounds: usize, reason: String| HullError::UnresolvedIntersection {
                 edge,
                 faces,

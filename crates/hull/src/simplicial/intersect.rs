@@ -6,6 +6,7 @@ use super::rounds::{Overlap, RoundTet};
 use super::{Element, HullTetrahedron, Intersection, SimplicialHull};
 use crate::Side;
 use crate::overlap::{FacePlanes, common_diagonal, depth_until, tet_box};
+use crate::refine::key;
 use algesurf_mesh::morton::MortonBvh;
 use glam::DVec3;
 use rayon::prelude::*;
@@ -199,7 +200,7 @@ impl TetKey {
         match *self {
             TetKey::Face(f, side) => (0, f as u64, rank(side)),
             TetKey::Edge([a, b], side) => {
-                let (lo, hi) = (a.min(b), a.max(b));
+                let [lo, hi] = key(a, b);
                 (1, (lo as u64) << 32 | hi as u64, rank(side))
             }
         }
@@ -265,9 +266,12 @@ impl TetIndex {
         resolve: impl Fn(TetKey) -> Option<RoundTet> + Sync,
         tol: f64,
     ) -> Vec<Overlap> {
+        // Each new tetrahedron's planes, once: for the index and for its own queries.
+        let new_planes: Vec<FacePlanes> = new.iter().map(|t| FacePlanes::of(&t.vertices)).collect();
         self.later.extend(
             new.iter()
-                .map(|t| (t.key(), t.vertices, FacePlanes::of(&t.vertices))),
+                .zip(&new_planes)
+                .map(|(t, p)| (t.key(), t.vertices, *p)),
         );
         if !new.is_empty() {
             self.later_tree = Some(Indexed::over(&self.later));
@@ -277,9 +281,9 @@ impl TetIndex {
             .collect();
         let mut pairs: Vec<Overlap> = new
             .par_iter()
-            .map_init(Vec::new, |stack, t| {
+            .zip(&new_planes)
+            .map_init(Vec::new, |stack, (t, planes)| {
                 let order = t.key().order();
-                let planes = FacePlanes::of(&t.vertices);
                 let b = tet_box(&t.vertices);
                 let mut out = Vec::new();
                 for indexed in &trees {
@@ -299,9 +303,9 @@ impl TetIndex {
                         };
                         // `depth_beyond` of the pair in order, with the planes at hand.
                         let ((va, pa), (vb, pb)) = if order < other {
-                            ((&t.vertices, &planes), (v, &indexed.planes[slot]))
+                            ((&t.vertices, planes), (v, &indexed.planes[slot]))
                         } else {
-                            ((v, &indexed.planes[slot]), (&t.vertices, &planes))
+                            ((v, &indexed.planes[slot]), (&t.vertices, planes))
                         };
                         let d = common_diagonal(&tet_box(va), &tet_box(vb));
                         let depth = depth_until(va, pa, vb, pb, d, tol);

@@ -41,6 +41,11 @@ pub(crate) enum Part {
     },
 }
 
+/// The keys of a triangle's edges `[i j]`, `[j k]`, `[k i]` (the order of `HullFace::edges`).
+fn triangle_edge_keys(t: [u32; 3]) -> [[u32; 2]; 3] {
+    std::array::from_fn(|c| key(t[c], t[(c + 1) % 3]))
+}
+
 impl Part {
     /// The faces of the part: one for a face, one or two for an edge.
     pub(crate) fn faces(&self) -> impl Iterator<Item = u32> {
@@ -51,13 +56,19 @@ impl Part {
         std::iter::once(first).chain(second)
     }
 
+    /// The part's first face (the face, or an edge's `face_k`): the face an overlap is named
+    /// by and whose component it is in.
+    pub(crate) fn first_face(&self) -> u32 {
+        match *self {
+            Part::Face(f) => f,
+            Part::Edge { face_k, .. } => face_k,
+        }
+    }
+
     /// The part's edges as keys: three for a face (`[i j]`, `[j k]`, `[k i]`), one for an edge.
     fn edge_keys(&self, triangles: &[[u32; 3]]) -> Vec<[u32; 2]> {
         match *self {
-            Part::Face(f) => {
-                let t = triangles[f as usize];
-                (0..3).map(|c| key(t[c], t[(c + 1) % 3])).collect()
-            }
+            Part::Face(f) => triangle_edge_keys(triangles[f as usize]).to_vec(),
             Part::Edge {
                 vertices: [a, b], ..
             } => vec![key(a, b)],
@@ -107,8 +118,7 @@ pub(crate) fn unremovable(
     overlap: &Overlap,
 ) -> bool {
     let (a, b) = (overlap.first.part, overlap.second.part);
-    let first_face = |p: Part| p.faces().next().unwrap_or(0);
-    if component(first_face(a)) != component(first_face(b)) {
+    if component(a.first_face()) != component(b.first_face()) {
         return true;
     }
     a.faces().any(|x| {
@@ -321,7 +331,7 @@ impl Rounds {
         // `[i, j]` its direction there.
         let mut keys: Vec<[u32; 2]> = fresh_faces
             .iter()
-            .flat_map(|&f| Part::Face(f).edge_keys(triangles))
+            .flat_map(|&f| triangle_edge_keys(triangles[f as usize]))
             .collect();
         keys.sort_unstable();
         keys.dedup();
@@ -359,9 +369,9 @@ impl Rounds {
         };
         for &f in &fresh_faces {
             let t = triangles[f as usize];
-            let edge_keys: [[u32; 2]; 3] = std::array::from_fn(|c| key(t[c], t[(c + 1) % 3]));
             // Edge ids are given when the topology is made ([`Rounds::finish`]).
-            let face = inputs.face(f as usize, t, [u32::MAX; 3], edge_keys.map(convexity))?;
+            let convexities = triangle_edge_keys(t).map(convexity);
+            let face = inputs.face(f as usize, t, [u32::MAX; 3], convexities)?;
             match hull.faces.get_mut(f as usize) {
                 Some(slot) => *slot = face,
                 None => {
