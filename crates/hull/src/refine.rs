@@ -121,29 +121,31 @@ impl RefineState {
 
     /// Ends a round of splits: the mesh is rebuilt from the edits once.
     pub(crate) fn finish_round(&mut self) -> Result<(), HullError> {
-        if let (Some(edit), true) = (&self.edit, self.edited) {
-            self.mesh = edit.to_mesh()?;
+        if let Some(mesh) = self.pending_edit().map(EditMesh::to_mesh).transpose()? {
+            self.mesh = mesh;
             self.edited = false;
         }
         Ok(())
     }
 
+    /// The edited mesh while it has splits that `mesh` does not have yet.
+    fn pending_edit(&self) -> Option<&EditMesh> {
+        self.edit.as_ref().filter(|_| self.edited)
+    }
+
     /// The current positions and triangles: the edited mesh's while splits are pending
     /// ([`RefineState::finish_round`] has not run since), else `mesh`'s.
     pub(crate) fn current(&self) -> (&[DVec3], &[[u32; 3]]) {
-        match (&self.edit, self.edited) {
-            (Some(edit), true) => (edit.positions(), edit.triangles()),
-            _ => (self.mesh.positions(), self.mesh.triangles()),
+        match self.pending_edit() {
+            Some(edit) => (edit.positions(), edit.triangles()),
+            None => (self.mesh.positions(), self.mesh.triangles()),
         }
     }
 
     /// The faces on edge `a`–`b` of the current mesh, ascending (see
     /// [`RefineState::current`]); only while splits are pending.
     pub(crate) fn edge_faces(&self, a: u32, b: u32) -> Option<Vec<u32>> {
-        match (&self.edit, self.edited) {
-            (Some(edit), true) => Some(edit.edge_faces(a, b)),
-            _ => None,
-        }
+        self.pending_edit().map(|edit| edit.edge_faces(a, b))
     }
 
     /// What the splits since the last call changed.
@@ -176,16 +178,15 @@ impl RefineState {
         let first_new = edit.triangles().len() as u32;
         let (m, split) = edit.split_edge(a, b, point);
         let appended = first_new..edit.triangles().len() as u32;
-        self.changes
-            .faces
-            .extend(split.iter().copied().chain(appended));
-        self.changes.removed_edges.push(key(a, b));
-        let edit = self.edit();
         let mut neighbours = vec![a, b];
         for &f in &split {
             let t = edit.triangles()[f as usize];
             neighbours.extend(t.iter().copied().filter(|&v| v != m && v != a && v != b));
         }
+        self.changes
+            .faces
+            .extend(split.iter().copied().chain(appended));
+        self.changes.removed_edges.push(key(a, b));
         self.face_map.extend(
             split
                 .iter()
