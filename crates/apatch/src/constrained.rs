@@ -38,6 +38,13 @@ impl System {
         }
     }
 
+    /// Empties the system, keeping its allocations (see `split`'s reuse of one per thread).
+    pub(crate) fn clear(&mut self) {
+        self.terms.clear();
+        self.starts.truncate(1);
+        self.rhs.clear();
+    }
+
     pub(crate) fn push(&mut self, terms: impl IntoIterator<Item = (usize, f64)>, rhs: f64) {
         self.terms.extend(terms);
         self.starts.push(self.terms.len());

@@ -147,8 +147,7 @@ impl FaceCubic {
         let mut poly = BbPoly::<f64, 4>::zero(3);
         // Steps 1–2: value 0 and gradient N_a at each face vertex, (2.1).
         for (a, v) in vertices.iter().enumerate() {
-            for (l, c) in
-                continuity::vertex_coefficients(tet.vertices(), 3, a, 0.0, v.gradient, None)?
+            for (l, c) in continuity::vertex_and_neighbours(tet.vertices(), 3, a, 0.0, v.gradient)?
             {
                 poly.set(l, c);
             }

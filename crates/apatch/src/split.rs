@@ -24,6 +24,7 @@ use crate::geometry::{add_apex_square, exact_barycentric, foot, snap_rounding_ze
 use crate::{ApatchError, Quadric, VertexData};
 use algesurf_bb::{BbPoly, Tetrahedron};
 use glam::DVec3;
+use std::cell::RefCell;
 
 /// One side (apex) of a split face: three cubics on `[p_b, p_c, c, apex]`, `a` = 0, 1, 2 the
 /// face vertex opposite the sub-tetrahedron (so sub-tetrahedron `a` carries the edge
@@ -114,8 +115,13 @@ impl SplitFace {
                 "a split face needs one or two apexes with one free parameter each".into(),
             ));
         }
-        let (sys, target, tets) = constraints(v, apexes, mid_gradients, q, f)?;
-        let (x, residual, _) = solve(&sys, &target);
+        let (x, residual, tets) = ROWS.with(|rows| {
+            let mut sys = rows.borrow_mut();
+            sys.clear();
+            let (target, tets) = constraints(&mut sys, v, apexes, mid_gradients, q, f)?;
+            let (x, residual, _) = solve(&sys, &target);
+            Ok::<_, ApatchError>((x, residual, tets))
+        })?;
         let mut sides = Vec::with_capacity(apexes.len());
         for side in 0..apexes.len() {
             let polys = std::array::from_fn(|a| {
@@ -132,16 +138,24 @@ impl SplitFace {
     }
 }
 
-/// The hard constraints of [`SplitFace::new`], the target coefficients and the
-/// sub-tetrahedra (side after side, sub-tetrahedron `a` of a side carrying the edge
-/// `(p_{a+1}, p_{a+2})`).
+thread_local! {
+    /// The constraint rows of the split faces built on this thread, one system emptied and
+    /// refilled for each: two apexes make ~210 rows of ~620 terms (10 KB), and allocating them
+    /// anew for every face put mimalloc's slow path in the bunny's profile.
+    static ROWS: RefCell<System> = RefCell::new(System::with_capacity(224, 640));
+}
+
+/// The hard constraints of [`SplitFace::new`], pushed to `sys` (empty), and the target
+/// coefficients and the sub-tetrahedra (side after side, sub-tetrahedron `a` of a side
+/// carrying the edge `(p_{a+1}, p_{a+2})`).
 fn constraints(
+    sys: &mut System,
     v: [VertexData; 3],
     apexes: &[DVec3],
     mid_gradients: [DVec3; 3],
     q: &Quadric,
     f: &[f64],
-) -> Result<(System, Vec<f64>, Vec<Tetrahedron>), ApatchError> {
+) -> Result<(Vec<f64>, Vec<Tetrahedron>), ApatchError> {
     let p = v.map(|x| x.position);
     let c = (p[0] + p[1] + p[2]) / 3.0;
     let mut tets = Vec::with_capacity(3 * apexes.len());
@@ -153,8 +167,8 @@ fn constraints(
     }
     let n = tets.len() * 20;
     // Two apexes: 48 vertex, 12 mid-edge, 6 apex rows and 9 joins of 16 rows (C0 rows
-    // have 2 terms, C1 rows up to 5, mid-edge rows up to 10: 624 terms at most).
-    let mut sys = System::with_capacity(224, 640);
+    // have 2 terms, C1 rows up to 5, mid-edge rows up to 10: 624 terms at most), which the
+    // caller's system has room for.
     for side in 0..apexes.len() {
         let t0 = side * 3;
         for a in 0..3 {
@@ -162,13 +176,12 @@ fn constraints(
             let (b, cc) = ((a + 1) % 3, (a + 2) % 3);
             // Vertex data (2.1) at p_b and p_c: local vertices 0 and 1.
             for (local, vert) in [(0usize, b), (1usize, cc)] {
-                let coeffs = algesurf_bb::continuity::vertex_coefficients(
+                let coeffs = algesurf_bb::continuity::vertex_and_neighbours(
                     tets[ti].vertices(),
                     3,
                     local,
                     0.0,
                     v[vert].gradient,
-                    None,
                 )?;
                 for (l, val) in coeffs {
                     sys.push([(ti * 20 + cubic::rank3(l), 1.0)], val);
@@ -224,7 +237,7 @@ fn constraints(
         }
         target[ti * 20..ti * 20 + 20].copy_from_slice(&coeffs);
     }
-    Ok((sys, target, tets))
+    Ok((target, tets))
 }
 
 #[cfg(test)]
@@ -269,7 +282,8 @@ mod tests {
                 c: -normal.dot(c),
             };
             let f = [q.value(u) + 0.05, q.value(w) - 0.05];
-            let (sys, target, _) = constraints(v, &[u, w], mids, &q, &f).unwrap();
+            let mut sys = System::with_capacity(224, 640);
+            let (target, _) = constraints(&mut sys, v, &[u, w], mids, &q, &f).unwrap();
             let (fast, r_fast, rows_fast) = nearest_solution(&sys, &target, true);
             // The plan of this pattern replays the cascade: every pivot passes, the same
             // number of rows is left, and the point is the same to rounding.

@@ -155,6 +155,57 @@ pub fn cr_residual<C: Coeff, const N: usize>(
     Ok(res)
 }
 
+/// The first two layers of [`vertex_coefficients`] without a Hessian, in a fixed array: the
+/// vertex coefficient `b_{n e_i} = value` first, then (2.5) `b_{(n−1)e_i+e_j}` for each
+/// `j ≠ i` in increasing order (the same numbers, in the same order, as
+/// [`vertex_coefficients`] with `hessian = None`). For degree `n ≥ 1`; no allocation, for
+/// callers that set these coefficients on many small polynomials (a split face sets twelve
+/// such groups).
+///
+/// ```
+/// use algesurf_bb::continuity::vertex_and_neighbours;
+/// use glam::DVec3;
+/// let v = [DVec3::ZERO, DVec3::X, DVec3::Y];
+/// // f = x + 2y on the unit triangle: b_{2,1,0} = 0 + 1/3, b_{2,0,1} = 0 + 2/3.
+/// let c = vertex_and_neighbours(&v, 3, 0, 0.0, DVec3::new(1.0, 2.0, 0.0)).unwrap();
+/// assert_eq!(c[0], ([3, 0, 0], 0.0));
+/// assert_eq!(c[1], ([2, 1, 0], 1.0 / 3.0));
+/// assert_eq!(c[2], ([2, 0, 1], 2.0 / 3.0));
+/// ```
+///
+/// # Errors
+/// [`BbError::Index`] when `i ≥ N`; [`BbError::Degree`] when `n = 0` (a constant has no
+/// layer next to a vertex).
+pub fn vertex_and_neighbours<const N: usize>(
+    vertices: &[DVec3; N],
+    n: usize,
+    i: usize,
+    value: f64,
+    gradient: DVec3,
+) -> Result<[(MultiIndex<N>, f64); N], BbError> {
+    if i >= N {
+        return Err(BbError::Index(format!(
+            "vertex {i} of a simplex with {N} vertices"
+        )));
+    }
+    if n == 0 {
+        return Err(BbError::Degree(
+            "a degree-0 polynomial has no layer next to a vertex".into(),
+        ));
+    }
+    let mut out = [(multi_index::vertex(n, i), value); N];
+    for (at, j) in (1..).zip((0..N).filter(|&j| j != i)) {
+        let mut l = multi_index::vertex(n, i);
+        l[i] -= 1;
+        l[j] += 1;
+        out[at] = (
+            l,
+            value + (vertices[j] - vertices[i]).dot(gradient) / n as f64,
+        );
+    }
+    Ok(out)
+}
+
 /// The coefficients at and around vertex `i` of a degree-`n` polynomial on the simplex with
 /// the given vertices, from the value, gradient and (optionally) Hessian there:
 ///
@@ -189,14 +240,8 @@ pub fn vertex_coefficients<const N: usize>(
         0
     };
     let mut out = Vec::with_capacity(N + layer2);
-    out.push((multi_index::vertex(n, i), value));
+    out.extend(vertex_and_neighbours(vertices, n, i, value, gradient)?);
     let first = |j: usize| value + (vertices[j] - vertices[i]).dot(gradient) / n as f64;
-    for j in (0..N).filter(|&j| j != i) {
-        let mut l = multi_index::vertex(n, i);
-        l[i] -= 1;
-        l[j] += 1;
-        out.push((l, first(j)));
-    }
     if let (Some(h), true) = (hessian, n >= 2) {
         for j in (0..N).filter(|&j| j != i) {
             for k in (j..N).filter(|&k| k != i) {

@@ -55,7 +55,12 @@ impl<const N: usize> Simplex<N> {
                 what: "simplex vertex",
             });
         }
-        let e: Vec<DVec3> = (1..N).map(|k| vertices[k] - vertices[0]).collect();
+        // The edge vectors from v_0 (N − 1 ≤ 3 of them; a fixed array, as this runs for every
+        // tetrahedron of a hull and every sub-tetrahedron of a split face).
+        let mut e = [DVec3::ZERO; 3];
+        for k in 1..N {
+            e[k - 1] = vertices[k] - vertices[0];
+        }
         let mut longest: f64 = 0.0;
         for a in 0..N {
             for b in a + 1..N {
