@@ -9,6 +9,7 @@
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
@@ -21,6 +22,7 @@ use algesurf_mesh::{
     NormalMethod, PolygonMesh, Property, PropertyValues, RepairOptions, RepairReport, TriMesh,
     repair, shapes, vertex_normals,
 };
+use rayon::prelude::*;
 use serde_json::json;
 
 /// Exit status when the surface was written but some rays missed or had multiple roots.
@@ -367,30 +369,40 @@ fn output_mesh(t: &mut Tessellation) -> PolygonMesh {
     // Moved, not copied: 35 MB of fresh pages on the bunny's tessellation.
     let mut mesh = PolygonMesh::from_triangles(std::mem::take(&mut t.positions), &t.triangles);
     mesh.normals = Some(std::mem::take(&mut t.normals));
-    let mut vertex_patch = vec![i64::MAX; mesh.vertex_count()];
-    for (tri, &p) in t.triangles.iter().zip(&t.triangle_patch) {
-        for &v in tri {
-            let slot = &mut vertex_patch[v as usize];
-            *slot = (*slot).min(i64::from(p));
-        }
-    }
+    // The least patch id at each vertex, over the triangles in parallel: `fetch_min` gives
+    // the same minimum in any order. One thread scattering 4.4 M updates into the bunny's
+    // 731 k vertices at random took ~0.1 s, most of it waiting on memory.
+    let least: Vec<AtomicU32> = (0..mesh.vertex_count())
+        .into_par_iter()
+        .map(|_| AtomicU32::new(u32::MAX))
+        .collect();
+    t.triangles
+        .par_iter()
+        .zip(&t.triangle_patch)
+        .for_each(|(tri, &p)| {
+            for &v in tri {
+                least[v as usize].fetch_min(p, Ordering::Relaxed);
+            }
+        });
     // Vertices no triangle uses (none in a valid tessellation) get patch 0.
-    for p in &mut vertex_patch {
-        if *p == i64::MAX {
-            *p = 0;
-        }
-    }
+    let vertex_patch: Vec<i64> = least
+        .into_par_iter()
+        .map(|p| match p.into_inner() {
+            u32::MAX => 0,
+            p => i64::from(p),
+        })
+        .collect();
     mesh.vertex_properties.push(Property {
         name: PATCH_ID.into(),
         values: PropertyValues::Int(vertex_patch),
     });
     mesh.face_properties.push(Property {
         name: PATCH_ID.into(),
-        values: PropertyValues::Int(t.triangle_patch.iter().map(|&p| i64::from(p)).collect()),
+        values: PropertyValues::Int(t.triangle_patch.par_iter().map(|&p| i64::from(p)).collect()),
     });
     mesh.face_properties.push(Property {
         name: PATCH_KIND.into(),
-        values: PropertyValues::Int(t.triangle_kind.iter().map(|&k| kind_code(k)).collect()),
+        values: PropertyValues::Int(t.triangle_kind.par_iter().map(|&k| kind_code(k)).collect()),
     });
     mesh
 }
