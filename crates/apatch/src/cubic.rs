@@ -91,9 +91,20 @@ const TABLES3: ([[[usize; 4]; 4]; 4], [[usize; 4]; 20]) = {
     (ranks, indices)
 };
 
-/// `RANK3[λ_0][λ_1][λ_2]`: the rank of the degree-3 index `(λ_0, λ_1, λ_2, 3 − λ_0 − λ_1 − λ_2)`
-/// (entries with `λ_0 + λ_1 + λ_2 > 3` unused).
-const RANK3: [[[usize; 4]; 4]; 4] = TABLES3.0;
+/// `RANK3[16 λ_0 + 4 λ_1 + λ_2]`: the rank of the degree-3 index
+/// `(λ_0, λ_1, λ_2, 3 − λ_0 − λ_1 − λ_2)` (entries with `λ_0 + λ_1 + λ_2 > 3` unused). Flat
+/// bytes, one cache line, indexed with a mask that the compiler sees is in range: the nested
+/// `usize` table cost three bounds checks per lookup, and `rank3` runs about a thousand times
+/// per face (the edge cubics' blossoms, the split faces' mid-edge rows).
+const RANK3: [u8; 64] = {
+    let mut flat = [0u8; 64];
+    let mut k = 0;
+    while k < 64 {
+        flat[k] = TABLES3.0[k >> 4][(k >> 2) & 3][k & 3] as u8;
+        k += 1;
+    }
+    flat
+};
 
 /// The 20 multi-indices of degree 3 in storage order (`INDICES3[rank3(l)] == l`): a table
 /// for the hot loops, which `algesurf_bb::multi_index::iter` would walk by successor steps.
@@ -103,7 +114,11 @@ pub(crate) const INDICES3: [[usize; 4]; 20] = TABLES3.1;
 /// `algesurf_bb::multi_index::rank`, by table).
 #[inline]
 pub(crate) fn rank3(l: [usize; 4]) -> usize {
-    RANK3[l[0]][l[1]][l[2]]
+    debug_assert!(
+        l[0] <= 3 && l[1] <= 3 && l[2] <= 3,
+        "a degree-3 index: {l:?}"
+    );
+    RANK3[((l[0] << 4) | (l[1] << 2) | l[2]) & 63] as usize
 }
 
 /// The C0/C1 rows of a join between two tetrahedra A and B sharing a face, in index form
