@@ -64,10 +64,53 @@ impl SimplicialHull {
 
     /// Tetrahedron `s` (0 or 1: positive before negative) of element `k`, as numbered by
     /// [`SimplicialHull::element_tets`].
+    ///
+    /// Reads that one tetrahedron's record: going through [`SimplicialHull::element_tets`]
+    /// copied both sides' vertices to keep one, for each of the ~330 k tetrahedra of the
+    /// bunny's check, three times (numbering, boxes, the tree's copy).
     fn element_tet(&self, (k, s): (u32, u8)) -> HullTetrahedron {
-        self.element_tets(k as usize)
-            .nth(s as usize)
-            .expect("an element's tetrahedra are counted before they are named")
+        let nf = self.faces.len();
+        let (k, s) = (k as usize, s as usize);
+        // Tetrahedron `s` of the present ones, positive first.
+        fn nth<'a, T>(positive: Option<&'a T>, negative: Option<&'a T>, s: usize) -> Option<&'a T> {
+            match s {
+                0 => positive.or(negative),
+                1 => positive.and(negative),
+                _ => None,
+            }
+        }
+        let (element, side, vertices) = if k < nf {
+            let face = &self.faces[k];
+            let t = nth(face.positive.as_ref(), face.negative.as_ref(), s);
+            let t = t.expect("an element's tetrahedra are counted before they are named");
+            (Element::Face(k as u32), t.side, *t.tetrahedron.vertices())
+        } else {
+            let edge = &self.edges[k - nf];
+            let t = nth(edge.positive.as_ref(), edge.negative.as_ref(), s);
+            let t = t.expect("an element's tetrahedra are counted before they are named");
+            (
+                Element::Edge((k - nf) as u32),
+                t.side,
+                *t.tetrahedron.vertices(),
+            )
+        };
+        HullTetrahedron {
+            element,
+            side,
+            vertices,
+        }
+    }
+
+    /// How many tetrahedra element `k` has (0, 1 or 2).
+    fn element_tet_count(&self, k: usize) -> usize {
+        let nf = self.faces.len();
+        if k < nf {
+            let face = &self.faces[k];
+            face.positive.is_some() as usize + face.negative.is_some() as usize
+        } else {
+            let edge = &self.edges[k - nf];
+            edge.positive.is_some() as usize + edge.negative.is_some() as usize
+        }
     }
 
     /// All pairs of tetrahedra of Σ whose interiors overlap by more than
@@ -107,7 +150,7 @@ impl SimplicialHull {
         // bunny, and only the overlapping pairs are ever looked up by index).
         let ids: Vec<(u32, u8)> = (0..self.faces.len() + self.edges.len())
             .into_par_iter()
-            .flat_map_iter(|k| (0..self.element_tets(k).count()).map(move |s| (k as u32, s as u8)))
+            .flat_map_iter(|k| (0..self.element_tet_count(k)).map(move |s| (k as u32, s as u8)))
             .collect();
         // One self-join of a tree over every box, in parallel, every pair tested once. The
         // vertices and face planes (computed once per tetrahedron: each takes part in ~40
@@ -330,5 +373,40 @@ impl TetIndex {
         pairs.sort_unstable_by_key(orders);
         pairs.dedup_by_key(|o| orders(o));
         pairs
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::{HullOptions, SimplicialHull};
+    use algesurf_mesh::shapes;
+
+    /// Naming a tetrahedron by its element and place reads the same one as listing the
+    /// element's tetrahedra, on a torus (nonconvex faces with both sides, convex faces and
+    /// edges with one), and the counts agree.
+    #[test]
+    fn a_named_tetrahedron_is_the_listed_one() {
+        let mesh = shapes::torus(12, 8, 1.0, 0.4);
+        let normals =
+            algesurf_mesh::vertex_normals(&mesh, algesurf_mesh::NormalMethod::Area).unwrap();
+        let hull = SimplicialHull::from_mesh(&mesh, &normals, &HullOptions::default()).unwrap();
+        let (mut one, mut two) = (0, 0);
+        for k in 0..hull.faces.len() + hull.edges.len() {
+            let listed: Vec<_> = hull.element_tets(k).collect();
+            assert_eq!(hull.element_tet_count(k), listed.len(), "element {k}");
+            for (s, t) in listed.iter().enumerate() {
+                assert_eq!(
+                    hull.element_tet((k as u32, s as u8)),
+                    *t,
+                    "element {k}, {s}"
+                );
+            }
+            one += (listed.len() == 1) as usize;
+            two += (listed.len() == 2) as usize;
+        }
+        assert!(
+            one > 0 && two > 0,
+            "both kinds of element: {one} with one, {two} with two"
+        );
     }
 }
