@@ -7,6 +7,7 @@ use super::{Element, HullTetrahedron, Intersection, SimplicialHull};
 use crate::Side;
 use crate::overlap::{FacePlanes, common_diagonal, depth_until, tet_box};
 use crate::refine::key;
+use algesurf_bb::Tetrahedron;
 use algesurf_mesh::morton::MortonBvh;
 use glam::DVec3;
 use rayon::prelude::*;
@@ -19,36 +20,44 @@ use rayon::prelude::*;
 const TET_LEAF_SIZE: usize = 16;
 
 impl SimplicialHull {
-    /// The tetrahedra of element `k`, positive before negative: face `k` for
-    /// `k < faces().len()`, else edge `k − faces().len()`.
-    fn element_tets(&self, k: usize) -> impl Iterator<Item = HullTetrahedron> + '_ {
+    /// Element `k` (face `k` for `k < faces().len()`, else edge `k − faces().len()`) and its
+    /// tetrahedra by reference, `[positive, negative]`: the one place that reads the records,
+    /// for listing, naming and counting them.
+    fn element_sides(&self, k: usize) -> (Element, [Option<(Side, &Tetrahedron)>; 2]) {
         let nf = self.faces.len();
-        let (element, sides) = if k < nf {
-            let face = &self.faces[k];
-            let of = |t: &Option<crate::FaceTetrahedron>| {
-                t.as_ref().map(|t| (t.side, *t.tetrahedron.vertices()))
-            };
+        if k < nf {
+            let f = &self.faces[k];
             (
                 Element::Face(k as u32),
-                [of(&face.positive), of(&face.negative)],
+                [
+                    f.positive.as_ref().map(|t| (t.side, &t.tetrahedron)),
+                    f.negative.as_ref().map(|t| (t.side, &t.tetrahedron)),
+                ],
             )
         } else {
-            let edge = &self.edges[k - nf];
-            let of = |t: &Option<crate::EdgeTetrahedron>| {
-                t.as_ref().map(|t| (t.side, *t.tetrahedron.vertices()))
-            };
+            let e = &self.edges[k - nf];
             (
                 Element::Edge((k - nf) as u32),
-                [of(&edge.positive), of(&edge.negative)],
+                [
+                    e.positive.as_ref().map(|t| (t.side, &t.tetrahedron)),
+                    e.negative.as_ref().map(|t| (t.side, &t.tetrahedron)),
+                ],
             )
-        };
+        }
+    }
+
+    /// The tetrahedra of element `k`, positive before negative (see
+    /// [`SimplicialHull::element_sides`]). Each one's vertices are copied only when it is
+    /// yielded.
+    fn element_tets(&self, k: usize) -> impl Iterator<Item = HullTetrahedron> + '_ {
+        let (element, sides) = self.element_sides(k);
         sides
             .into_iter()
             .flatten()
-            .map(move |(side, vertices)| HullTetrahedron {
+            .map(move |(side, t)| HullTetrahedron {
                 element,
                 side,
-                vertices,
+                vertices: *t.vertices(),
             })
     }
 
@@ -64,53 +73,15 @@ impl SimplicialHull {
 
     /// Tetrahedron `s` (0 or 1: positive before negative) of element `k`, as numbered by
     /// [`SimplicialHull::element_tets`].
-    ///
-    /// Reads that one tetrahedron's record: going through [`SimplicialHull::element_tets`]
-    /// copied both sides' vertices to keep one, for each of the ~330 k tetrahedra of the
-    /// bunny's check, three times (numbering, boxes, the tree's copy).
     fn element_tet(&self, (k, s): (u32, u8)) -> HullTetrahedron {
-        let nf = self.faces.len();
-        let (k, s) = (k as usize, s as usize);
-        // Tetrahedron `s` of the present ones, positive first.
-        fn nth<'a, T>(positive: Option<&'a T>, negative: Option<&'a T>, s: usize) -> Option<&'a T> {
-            match s {
-                0 => positive.or(negative),
-                1 => positive.and(negative),
-                _ => None,
-            }
-        }
-        let (element, side, vertices) = if k < nf {
-            let face = &self.faces[k];
-            let t = nth(face.positive.as_ref(), face.negative.as_ref(), s);
-            let t = t.expect("an element's tetrahedra are counted before they are named");
-            (Element::Face(k as u32), t.side, *t.tetrahedron.vertices())
-        } else {
-            let edge = &self.edges[k - nf];
-            let t = nth(edge.positive.as_ref(), edge.negative.as_ref(), s);
-            let t = t.expect("an element's tetrahedra are counted before they are named");
-            (
-                Element::Edge((k - nf) as u32),
-                t.side,
-                *t.tetrahedron.vertices(),
-            )
-        };
-        HullTetrahedron {
-            element,
-            side,
-            vertices,
-        }
+        self.element_tets(k as usize)
+            .nth(s as usize)
+            .expect("an element's tetrahedra are counted before they are named")
     }
 
     /// How many tetrahedra element `k` has (0, 1 or 2).
     fn element_tet_count(&self, k: usize) -> usize {
-        let nf = self.faces.len();
-        if k < nf {
-            let face = &self.faces[k];
-            face.positive.is_some() as usize + face.negative.is_some() as usize
-        } else {
-            let edge = &self.edges[k - nf];
-            edge.positive.is_some() as usize + edge.negative.is_some() as usize
-        }
+        self.element_sides(k).1.iter().flatten().count()
     }
 
     /// All pairs of tetrahedra of Σ whose interiors overlap by more than
@@ -373,40 +344,5 @@ impl TetIndex {
         pairs.sort_unstable_by_key(orders);
         pairs.dedup_by_key(|o| orders(o));
         pairs
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use crate::{HullOptions, SimplicialHull};
-    use algesurf_mesh::shapes;
-
-    /// Naming a tetrahedron by its element and place reads the same one as listing the
-    /// element's tetrahedra, on a torus (nonconvex faces with both sides, convex faces and
-    /// edges with one), and the counts agree.
-    #[test]
-    fn a_named_tetrahedron_is_the_listed_one() {
-        let mesh = shapes::torus(12, 8, 1.0, 0.4);
-        let normals =
-            algesurf_mesh::vertex_normals(&mesh, algesurf_mesh::NormalMethod::Area).unwrap();
-        let hull = SimplicialHull::from_mesh(&mesh, &normals, &HullOptions::default()).unwrap();
-        let (mut one, mut two) = (0, 0);
-        for k in 0..hull.faces.len() + hull.edges.len() {
-            let listed: Vec<_> = hull.element_tets(k).collect();
-            assert_eq!(hull.element_tet_count(k), listed.len(), "element {k}");
-            for (s, t) in listed.iter().enumerate() {
-                assert_eq!(
-                    hull.element_tet((k as u32, s as u8)),
-                    *t,
-                    "element {k}, {s}"
-                );
-            }
-            one += (listed.len() == 1) as usize;
-            two += (listed.len() == 2) as usize;
-        }
-        assert!(
-            one > 0 && two > 0,
-            "both kinds of element: {one} with one, {two} with two"
-        );
     }
 }
