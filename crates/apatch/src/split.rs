@@ -75,12 +75,17 @@ impl System {
         for &(rank, join_row) in &pattern.rows {
             let row = (ib * 20 + rank, 1.0);
             match join_row {
-                JoinRow::C0(mu) => self.push([row, (ia * 20 + mu, -1.0)], 0.0),
+                JoinRow::C0(mu) => self.push_slice(&[row, (ia * 20 + mu, -1.0)], 0.0),
                 JoinRow::C1(up) => {
-                    let terms = (0..4)
-                        .filter(|&k| v[k] != 0.0)
-                        .map(|k| (ia * 20 + up[k], -v[k]));
-                    self.push(std::iter::once(row).chain(terms), 0.0);
+                    let mut terms = [row; 5];
+                    let mut len = 1;
+                    for k in 0..4 {
+                        if v[k] != 0.0 {
+                            terms[len] = (ia * 20 + up[k], -v[k]);
+                            len += 1;
+                        }
+                    }
+                    self.push_slice(&terms[..len], 0.0);
                 }
             }
         }
@@ -202,8 +207,15 @@ fn constraints(
                 let dir = tets[ti].barycentric_direction(d);
                 // D_d F(m) = 3 b[d, m, m] (see `cubic`).
                 let weights = cubic::blossom_weights(dir, m, m).map(|w| 3.0 * w);
-                let terms = weights.iter().enumerate().filter(|(_, w)| **w != 0.0);
-                sys.push(terms.map(|(r, w)| (ti * 20 + r, *w)), d.dot(g));
+                let mut terms = [(0usize, 0.0f64); 20];
+                let mut len = 0;
+                for (r, &w) in weights.iter().enumerate() {
+                    if w != 0.0 {
+                        terms[len] = (ti * 20 + r, w);
+                        len += 1;
+                    }
+                }
+                sys.push_slice(&terms[..len], d.dot(g));
             }
             // Free parameter at the apex.
             sys.push([(ti * 20 + 19, 1.0)], f[side]);
