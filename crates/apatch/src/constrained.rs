@@ -588,6 +588,23 @@ fn dense_solve(
         }
         rhs[i] = v;
     }
+    let y = nearest_classes(&a_mat, &rhs, &inv_sqrt_w, mean);
+    let x: Vec<f64> = (0..n)
+        .map(|j| match (fixed[j], class_fixed[class_of[j]]) {
+            (Some(v), _) | (None, Some(v)) => v,
+            (None, None) => y[col[class_of[j]]],
+        })
+        .collect();
+    let residual = sys.relative_residual(&x, target);
+    (x, residual, m)
+}
+
+/// The free classes' values `y` nearest their targets' means `t̄` (weights `w_c`, given as
+/// `1/√w_c`) subject to `A y = r` (`A` dense row-major, `r.len()` rows): the minimum-norm
+/// `z` of `A W^{−1/2} z = r − A t̄` by [`RowBasis`], `y = t̄ + W^{−1/2} z` (see
+/// [`nearest_solution`]), refined twice.
+fn nearest_classes(a_mat: &[f64], rhs: &[f64], inv_sqrt_w: &[f64], mean: Vec<f64>) -> Vec<f64> {
+    let (m, nf) = (rhs.len(), inv_sqrt_w.len());
     let residual_of = |y: &[f64]| -> Vec<f64> {
         (0..m)
             .map(|i| {
@@ -596,9 +613,9 @@ fn dense_solve(
             })
             .collect()
     };
-    let mut scaled = a_mat.clone();
+    let mut scaled = a_mat.to_vec();
     for row in scaled.chunks_exact_mut(nf.max(1)) {
-        for (a, s) in row.iter_mut().zip(&inv_sqrt_w) {
+        for (a, s) in row.iter_mut().zip(inv_sqrt_w) {
             *a *= s;
         }
     }
@@ -611,26 +628,27 @@ fn dense_solve(
     let mut y = mean;
     for _ in 0..3 {
         let step = basis.solve(&residual_of(&y));
-        for ((x, s), w) in y.iter_mut().zip(step).zip(&inv_sqrt_w) {
+        for ((x, s), w) in y.iter_mut().zip(step).zip(inv_sqrt_w) {
             *x += s * w;
         }
     }
-    let x: Vec<f64> = (0..n)
-        .map(|j| match (fixed[j], class_fixed[class_of[j]]) {
-            (Some(v), _) | (None, Some(v)) => v,
-            (None, None) => y[col[class_of[j]]],
-        })
-        .collect();
-    // Residual of every row, eliminated ones included, at the final coefficients. A plain
-    // loop over the rows: through an iterator of rows behind `&mut dyn Iterator` this was 13 %
-    // of a split face's samples on the bunny (the same sums, so the same value).
-    let mut worst = 0.0f64;
-    for (i, &r) in sys.rhs.iter().enumerate() {
-        let terms = &sys.terms[sys.starts[i]..sys.starts[i + 1]];
-        let dot: f64 = terms.iter().map(|&(j, w)| w * x[j]).sum();
-        worst = worst.max((r - dot).abs());
+    y
+}
+
+impl System {
+    /// The largest violation of the rows at `x`, eliminated ones included, relative to the
+    /// size of the right-hand side and the target. A plain loop over the rows: through an
+    /// iterator of rows behind `&mut dyn Iterator` this was 13 % of a split face's samples on
+    /// the bunny (the same sums, so the same value).
+    fn relative_residual(&self, x: &[f64], target: &[f64]) -> f64 {
+        let mut worst = 0.0f64;
+        for (i, &r) in self.rhs.iter().enumerate() {
+            let terms = &self.terms[self.starts[i]..self.starts[i + 1]];
+            let dot: f64 = terms.iter().map(|&(j, w)| w * x[j]).sum();
+            worst = worst.max((r - dot).abs());
+        }
+        let amax = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        let size_of = amax(&self.rhs).max(amax(target));
+        worst / size_of.max(f64::MIN_POSITIVE)
     }
-    let amax = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-    let size_of = amax(&sys.rhs).max(amax(target));
-    (x, worst / size_of.max(f64::MIN_POSITIVE), m)
 }

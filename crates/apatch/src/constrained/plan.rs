@@ -2,8 +2,8 @@
 //! on every split face whose pivot tests come out the same ([`solve`]).
 
 use super::{
-    Classes, FORCE_PIVOT, PivotTest, RowKind, Step, System, dense_solve, force_determined_unknowns,
-    nearest_solution, pair_pivot,
+    Classes, FORCE_PIVOT, PivotTest, RowKind, Step, System, force_determined_unknowns,
+    nearest_classes, nearest_solution, pair_pivot,
 };
 use std::cell::RefCell;
 use std::rc::Rc;
@@ -34,6 +34,54 @@ struct Plan {
     steps: Vec<Step>,
     /// The rows left for the dense solve.
     dense: Vec<usize>,
+    /// The replay worked out from all of the above; `None` if a step would meet a value not
+    /// known yet, which the cascade's own steps never do (then [`solve`] falls back to
+    /// [`nearest_solution`]).
+    replay: Option<Replay>,
+}
+
+/// Where [`Plan::replay`] reads an unknown of a dense row or of the result, decided once per
+/// plan: a known value's slot (`Known`: an unknown its single row fixed, `j < n`, or a class
+/// known after the steps, `n + c`) or a free class's column in the dense solve.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Src {
+    Known(usize),
+    Column(usize),
+}
+
+/// Where a step's row reads an unknown: one of the step's two classes (`A`, `B`) or a value
+/// known by then (its slot, as in [`Src::Known`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum StepSrc {
+    A,
+    B,
+    Known(usize),
+}
+
+/// A [`Plan`]'s eliminations with every lookup done: per term of the rows a step or the dense
+/// solve reads, where its unknown's value comes from ([`Src`]); the classes that take a fixed
+/// unknown's value; the free classes with their unknowns, in index order, and column scales;
+/// and per unknown where its final value comes from. The replay then reads only the system's
+/// weights and right sides, with no class lookups or `Option`s per term.
+#[derive(Debug)]
+struct Replay {
+    /// `(class, unknown)`: the class's value is that fixed unknown's.
+    class_from_fixed: Vec<(usize, usize)>,
+    /// Per step row (a `Single` step has one, a `Pair` two), in step order: its terms' sources
+    /// are `step_src[step_start[k]..step_start[k + 1]]`, in term order.
+    step_src: Vec<StepSrc>,
+    step_start: Vec<usize>,
+    /// Free class `k`'s unknowns are `members[member_start[k]..member_start[k + 1]]`.
+    members: Vec<usize>,
+    member_start: Vec<usize>,
+    /// Per free class: `1/√w_c` and `w_c`.
+    inv_sqrt_w: Vec<f64>,
+    weight: Vec<f64>,
+    /// Per dense row, its terms' sources (`dense_start` as `step_start`).
+    dense_src: Vec<Src>,
+    dense_start: Vec<usize>,
+    /// Per unknown: where its value comes from.
+    x_src: Vec<Src>,
 }
 
 impl Plan {
@@ -48,7 +96,7 @@ impl Plan {
             &classes.fixed,
             &mut class_fixed,
         );
-        Plan {
+        let mut plan = Plan {
             starts: sys.starts.clone(),
             columns: sys.terms.iter().map(|t| t.0).collect(),
             kinds: sys.kinds().collect(),
@@ -59,7 +107,107 @@ impl Plan {
             class_of: classes.class_of,
             fixed_from: classes.fixed_from,
             size: classes.size,
+            replay: None,
+        };
+        plan.replay = plan.compile(sys);
+        plan
+    }
+
+    /// The [`Replay`] of this plan: which values are known at each step, followed through the
+    /// steps as [`Plan::replay`] will take them. `None` if a step's row has a term whose value
+    /// is not known then.
+    fn compile(&self, sys: &System) -> Option<Replay> {
+        let n = self.class_of.len();
+        let mut fixed = vec![false; n];
+        for &i in &self.singles {
+            fixed[sys.row(i).0[0].0] = true;
         }
+        let mut known: Vec<bool> = self.fixed_from.iter().map(Option::is_some).collect();
+        let class_from_fixed = (0..n)
+            .filter_map(|c| self.fixed_from[c].map(|j| (c, j)))
+            .collect();
+        // The value slot of unknown `j` once its class is known (`None` while it is not).
+        let known_slot = |known: &[bool], j: usize| {
+            let c = self.class_of[j];
+            if fixed[j] {
+                Some(j)
+            } else {
+                known[c].then_some(n + c)
+            }
+        };
+        let (mut step_src, mut step_start) = (Vec::new(), vec![0]);
+        for step in &self.steps {
+            let (rows, [a, b]) = match *step {
+                Step::Single { row, class } => ([row, usize::MAX], [class, usize::MAX]),
+                Step::Pair { rows, classes } => (rows, classes),
+            };
+            for &row in rows.iter().filter(|&&r| r != usize::MAX) {
+                for &(j, _) in sys.row(row).0 {
+                    let c = self.class_of[j];
+                    step_src.push(if c == a {
+                        StepSrc::A
+                    } else if c == b {
+                        StepSrc::B
+                    } else {
+                        StepSrc::Known(known_slot(&known, j)?)
+                    });
+                }
+                step_start.push(step_src.len());
+            }
+            for c in [a, b].into_iter().filter(|&c| c != usize::MAX) {
+                known[c] = true;
+            }
+        }
+        // The free classes (representatives not known after the steps), in index order.
+        let mut column = vec![usize::MAX; n];
+        let mut free = Vec::new();
+        for c in 0..n {
+            if self.class_of[c] == c && !known[c] {
+                column[c] = free.len();
+                free.push(c);
+            }
+        }
+        let mut member_start = vec![0; free.len() + 1];
+        for &c in &self.class_of {
+            if column[c] != usize::MAX {
+                member_start[column[c] + 1] += 1;
+            }
+        }
+        for k in 0..free.len() {
+            member_start[k + 1] += member_start[k];
+        }
+        let mut next = member_start.clone();
+        let mut members = vec![0; member_start[free.len()]];
+        for (j, &c) in self.class_of.iter().enumerate() {
+            if column[c] != usize::MAX {
+                members[next[column[c]]] = j;
+                next[column[c]] += 1;
+            }
+        }
+        let src = |j: usize| match known_slot(&known, j) {
+            Some(slot) => Src::Known(slot),
+            None => Src::Column(column[self.class_of[j]]),
+        };
+        let (mut dense_src, mut dense_start) = (Vec::new(), vec![0]);
+        for &i in &self.dense {
+            dense_src.extend(sys.row(i).0.iter().map(|&(j, _)| src(j)));
+            dense_start.push(dense_src.len());
+        }
+        Some(Replay {
+            class_from_fixed,
+            step_src,
+            step_start,
+            members,
+            member_start,
+            inv_sqrt_w: free
+                .iter()
+                .map(|&c| 1.0 / (self.size[c] as f64).sqrt())
+                .collect(),
+            weight: free.iter().map(|&c| self.size[c] as f64).collect(),
+            dense_src,
+            dense_start,
+            x_src: (0..n).map(src).collect(),
+        })
     }
 
     /// The summed weight of class `c` in row `i` of `sys`, in term order as the cascade sums
@@ -124,71 +272,99 @@ impl Plan {
 
     /// [`nearest_solution`] of a system the plan [fits](Plan::fits): the recorded steps with
     /// `sys`'s numbers (each forced value from its row, the known values moved to the right
-    /// side in term order), then the dense solve. `None` only if a step meets a value not
-    /// known yet, which a fitting system cannot do.
+    /// side in term order), then the dense solve with the operations of `dense_solve` in its
+    /// order. `None` if the plan has no [`Replay`] (see [`Plan::compile`]).
     fn replay(&self, sys: &System, target: &[f64]) -> Option<(Vec<f64>, f64, usize)> {
+        let rp = self.replay.as_ref()?;
         let n = target.len();
-        let mut fixed: Vec<Option<f64>> = vec![None; n];
+        // Value slots: unknowns fixed by their single rows `0..n`, known classes `n..2n`.
+        let mut vals = vec![0.0; 2 * n];
         for &i in &self.singles {
             let (terms, r) = sys.row(i);
-            fixed[terms[0].0] = Some(r / terms[0].1);
+            vals[terms[0].0] = r / terms[0].1;
         }
-        let mut class_fixed: Vec<Option<f64>> = self
-            .fixed_from
-            .iter()
-            .map(|f| f.and_then(|j| fixed[j]))
-            .collect();
-        // Row `i` with its known values moved to the right side: the summed weights of the
-        // classes `a` and `b` and the reduced right side.
-        let reduce = |class_fixed: &[Option<f64>], i: usize, a: usize, b: usize| {
-            let (terms, r) = sys.row(i);
+        for &(c, j) in &rp.class_from_fixed {
+            vals[n + c] = vals[j];
+        }
+        // Step row `k` with its known values moved to the right side: the summed weights of
+        // the step's classes and the reduced right side.
+        let reduce = |vals: &[f64], k: usize, row: usize| {
+            let (terms, r) = sys.row(row);
+            let srcs = &rp.step_src[rp.step_start[k]..rp.step_start[k + 1]];
             let (mut wa, mut wb, mut v) = (0.0, 0.0, r);
-            for &(j, w) in terms {
-                let c = self.class_of[j];
-                if c == a {
-                    wa += w;
-                } else if c == b {
-                    wb += w;
-                } else {
-                    v -= w * fixed[j].or(class_fixed[c])?;
+            for (&(_, w), &src) in terms.iter().zip(srcs) {
+                match src {
+                    StepSrc::A => wa += w,
+                    StepSrc::B => wb += w,
+                    StepSrc::Known(slot) => v -= w * vals[slot],
                 }
             }
-            Some((wa, wb, v))
+            (wa, wb, v)
         };
+        let mut k = 0;
         for step in &self.steps {
             match *step {
                 Step::Single { row, class } => {
-                    let (w, _, v) = reduce(&class_fixed, row, class, usize::MAX)?;
-                    class_fixed[class] = Some(v / w);
+                    let (w, _, v) = reduce(&vals, k, row);
+                    vals[n + class] = v / w;
+                    k += 1;
                 }
                 Step::Pair {
                     rows: [i, j],
                     classes: [ca, cb],
                 } => {
-                    let (a11, a12, ri) = reduce(&class_fixed, i, ca, cb)?;
-                    let (a21, a22, rj) = reduce(&class_fixed, j, ca, cb)?;
+                    let (a11, a12, ri) = reduce(&vals, k, i);
+                    let (a21, a22, rj) = reduce(&vals, k + 1, j);
                     let det = a11 * a22 - a12 * a21;
-                    class_fixed[ca] = Some((ri * a22 - a12 * rj) / det);
-                    class_fixed[cb] = Some((a11 * rj - a21 * ri) / det);
+                    vals[n + ca] = (ri * a22 - a12 * rj) / det;
+                    vals[n + cb] = (a11 * rj - a21 * ri) / det;
+                    k += 2;
                 }
             }
         }
-        Some(dense_solve(
-            sys,
-            target,
-            &fixed,
-            &self.class_of,
-            &class_fixed,
-            &self.size,
-            &self.dense,
-        ))
+        // The dense solve: the free classes' target means, the rows left in their columns.
+        let nf = rp.weight.len();
+        let mean: Vec<f64> = (0..nf)
+            .map(|k| {
+                let ms = &rp.members[rp.member_start[k]..rp.member_start[k + 1]];
+                ms.iter().fold(0.0, |s, &j| s + target[j]) / rp.weight[k]
+            })
+            .collect();
+        let m = self.dense.len();
+        let mut a_mat = vec![0.0; m * nf];
+        let mut rhs = vec![0.0; m];
+        for (i, &row) in self.dense.iter().enumerate() {
+            let (terms, r) = sys.row(row);
+            let srcs = &rp.dense_src[rp.dense_start[i]..rp.dense_start[i + 1]];
+            let mut v = r;
+            for (&(_, w), &src) in terms.iter().zip(srcs) {
+                match src {
+                    Src::Column(col) => a_mat[i * nf + col] += w,
+                    Src::Known(slot) => v -= w * vals[slot],
+                }
+            }
+            rhs[i] = v;
+        }
+        let y = nearest_classes(&a_mat, &rhs, &rp.inv_sqrt_w, mean);
+        let x: Vec<f64> = rp
+            .x_src
+            .iter()
+            .map(|&src| match src {
+                Src::Column(col) => y[col],
+                Src::Known(slot) => vals[slot],
+            })
+            .collect();
+        let residual = sys.relative_residual(&x, target);
+        Some((x, residual, m))
     }
 }
 
-/// How many plans each thread keeps ([`solve`]): a mesh's split faces normally share one;
-/// a few more cover faces whose pivot tests or snapped zeros differ. Evicting a plan only
-/// costs recording it again: the results do not depend on what is cached (see [`Plan`]).
-const PLANS_PER_THREAD: usize = 8;
+/// How many plans each thread keeps ([`solve`]), most recently used first. Spot's 2 956 split
+/// faces have at least 42 patterns (pivot tests and snapped zeros differ): with 8 plans kept
+/// oldest-first it recorded 191 plans, most recently used first 164, with 32 kept 42 (spot at
+/// 1 × 1 on one thread: 1 089 M → 1 070 M instructions). Evicting a plan only costs recording
+/// it again: the results do not depend on what is cached (see [`Plan`]).
+const PLANS_PER_THREAD: usize = 32;
 
 thread_local! {
     static PLANS: RefCell<Vec<Rc<Plan>>> = const { RefCell::new(Vec::new()) };
@@ -202,14 +378,14 @@ pub(crate) fn solve(sys: &System, target: &[f64]) -> (Vec<f64>, f64, usize) {
     let n = target.len();
     let plan = PLANS.with(|cell| {
         let mut plans = cell.borrow_mut();
-        if let Some(p) = plans.iter().find(|p| p.fits(sys, n)) {
-            return Rc::clone(p);
+        // Most recently used first: the next face most likely fits the plan the last one did.
+        if let Some(k) = plans.iter().position(|p| p.fits(sys, n)) {
+            plans[..=k].rotate_right(1);
+            return Rc::clone(&plans[0]);
         }
         let p = Rc::new(Plan::record(sys, n));
-        if plans.len() == PLANS_PER_THREAD {
-            plans.remove(0);
-        }
-        plans.push(Rc::clone(&p));
+        plans.truncate(PLANS_PER_THREAD - 1);
+        plans.insert(0, Rc::clone(&p));
         p
     });
     plan.replay(sys, target)
