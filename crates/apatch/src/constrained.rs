@@ -69,6 +69,7 @@ impl System {
     }
 
     /// Row `i` as `(terms, rhs)`.
+    #[inline]
     fn row(&self, i: usize) -> (&[(usize, f64)], f64) {
         (&self.terms[self.starts[i]..self.starts[i + 1]], self.rhs[i])
     }
@@ -642,9 +643,13 @@ impl System {
     /// the bunny (the same sums, so the same value).
     fn relative_residual(&self, x: &[f64], target: &[f64]) -> f64 {
         let mut worst = 0.0f64;
-        for (i, &r) in self.rhs.iter().enumerate() {
-            let terms = &self.terms[self.starts[i]..self.starts[i + 1]];
-            let dot: f64 = terms.iter().map(|&(j, w)| w * x[j]).sum();
+        let mut start = 0;
+        for (&end, &r) in self.starts[1..].iter().zip(&self.rhs) {
+            let mut dot = 0.0;
+            for &(j, w) in &self.terms[start..end] {
+                dot += w * x[j];
+            }
+            start = end;
             worst = worst.max((r - dot).abs());
         }
         let amax = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
