@@ -600,6 +600,15 @@ fn dense_solve(
     (x, residual, m)
 }
 
+/// `max(m, x)` for `m ≥ 0` and `x ≥ 0` or NaN, as `f64::max` gives it (a NaN `x` leaves `m`),
+/// in one compare-and-select: `f64::max` handles a NaN in either operand, which took a split
+/// face's residual (13.7 k instructions of the face's 83 k, `callgrind` on the bunny) 2.1 k
+/// instructions longer.
+#[inline]
+fn larger(m: f64, x: f64) -> f64 {
+    if x > m { x } else { m }
+}
+
 /// The free classes' values `y` nearest their targets' means `t̄` (weights `w_c`, given as
 /// `1/√w_c`) subject to `A y = r` (`A` dense row-major, `r.len()` rows): the minimum-norm
 /// `z` of `A W^{−1/2} z = r − A t̄` by [`RowBasis`], `y = t̄ + W^{−1/2} z` (see
@@ -650,10 +659,27 @@ impl System {
                 dot += w * x[j];
             }
             start = end;
-            worst = worst.max((r - dot).abs());
+            worst = larger(worst, (r - dot).abs());
         }
-        let amax = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        let amax = |v: &[f64]| v.iter().fold(0.0f64, |m, x| larger(m, x.abs()));
         let size_of = amax(&self.rhs).max(amax(target));
         worst / size_of.max(f64::MIN_POSITIVE)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::larger;
+
+    /// On magnitudes (and a NaN second operand, which both ignore) `larger` is `f64::max`,
+    /// bit for bit.
+    #[test]
+    fn larger_is_f64_max_on_magnitudes() {
+        let xs = [0.0, 1e-300, 0.5, 2.0, f64::INFINITY, f64::NAN];
+        for m in [0.0, 1e-300, 1.0, f64::INFINITY] {
+            for x in xs {
+                assert_eq!(larger(m, x).to_bits(), m.max(x).to_bits(), "{m} {x}");
+            }
+        }
     }
 }
