@@ -11,7 +11,7 @@
 use crate::TriMesh;
 use crate::geometry::Aabb;
 use crate::primitives::{closest_point_on_triangle, ray_box, ray_triangle, triangle_box_overlap};
-use crate::self_join::{JoinTree, self_join};
+use crate::self_join::{JoinTree, leaf_pair_rows, self_join_leaves};
 use glam::DVec3;
 use obvhs::bvh2::Bvh2;
 use std::time::Duration;
@@ -51,7 +51,7 @@ pub struct BoxBvh {
     leaf_boxes: Vec<Aabb>,
 }
 
-/// The tree as [`self_join`] walks it (only called on a built tree).
+/// The tree as [`crate::self_join::self_join`] walks it (only called on a built tree).
 impl JoinTree for BoxBvh {
     fn children(&self, n: usize) -> Option<(usize, usize)> {
         let node = &self.tree.as_ref()?.nodes[n];
@@ -309,15 +309,21 @@ impl BoxBvh {
             return Vec::new();
         }
         // Slots are positions in the leaf order: padded boxes first, then the exact ones.
-        self_join(self, 0, |a, b, out| {
-            if !self.leaf_boxes[a].overlaps(&self.leaf_boxes[b]) {
-                return;
-            }
-            let (i, j) = (self.leaf_ids[a], self.leaf_ids[b]);
-            if self.boxes[i as usize].overlaps(&self.boxes[j as usize])
-                && let Some(x) = f(i.min(j), i.max(j))
-            {
-                out.push(x);
+        // The slot pairs in `self_join`'s order, leaf boxes read from slices, the tests inlined.
+        self_join_leaves(self, 0, |ra, rb, out| {
+            for (a, rest) in leaf_pair_rows(ra, rb) {
+                let (la, i) = (self.leaf_boxes[a], self.leaf_ids[a]);
+                let slots = self.leaf_boxes[rest.clone()]
+                    .iter()
+                    .zip(&self.leaf_ids[rest]);
+                for (lb, &j) in slots {
+                    if la.overlaps(lb)
+                        && self.boxes[i as usize].overlaps(&self.boxes[j as usize])
+                        && let Some(x) = f(i.min(j), i.max(j))
+                    {
+                        out.push(x);
+                    }
+                }
             }
         })
     }

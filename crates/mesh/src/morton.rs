@@ -19,7 +19,7 @@
 //! assert_eq!(pairs, vec![(0, 1)]);
 //! ```
 
-use crate::self_join::{JoinTree, self_join};
+use crate::self_join::{JoinTree, self_join_leaves};
 use glam::DVec3;
 use rayon::prelude::*;
 
@@ -233,12 +233,21 @@ impl MortonBvh {
         if self.nodes.is_empty() {
             return Vec::new();
         }
-        self_join(self, 0, |a, b, out| {
-            let (ba, bb) = (&self.sorted[a], &self.sorted[b]);
-            if overlaps(ba, bb.0, bb.1)
-                && let Some(x) = f(a, b)
-            {
-                out.push(x);
+        // The pairs of two leaves' slots (of one leaf's, `a < b`), in `self_join`'s order,
+        // with the boxes read from slices and the test inlined.
+        self_join_leaves(self, 0, |ra, rb, out| {
+            let same = ra == rb;
+            for a in ra {
+                let ba = self.sorted[a];
+                // As `leaf_pair_rows` (whose iterator cost 6 M more instructions on spot).
+                let first = if same { a + 1 } else { rb.start };
+                for (b, bb) in (first..rb.end).zip(&self.sorted[first..rb.end]) {
+                    if overlaps(&ba, bb.0, bb.1)
+                        && let Some(x) = f(a, b)
+                    {
+                        out.push(x);
+                    }
+                }
             }
         })
     }
@@ -290,7 +299,8 @@ impl MortonBvh {
     }
 }
 
-/// The tree as [`self_join`] walks it: slots are positions in the Morton order.
+/// The tree as [`crate::self_join::self_join`] walks it: slots are positions in the Morton
+/// order.
 impl JoinTree for MortonBvh {
     fn children(&self, n: usize) -> Option<(usize, usize)> {
         match self.nodes[n].kind {

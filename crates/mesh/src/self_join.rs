@@ -68,9 +68,54 @@ pub fn self_join<R: Send>(
     root: usize,
     pair: impl Fn(usize, usize, &mut Vec<R>) + Sync,
 ) -> Vec<R> {
+    self_join_leaves(
+        tree,
+        root,
+        |a: Range<usize>, b: Range<usize>, out: &mut Vec<R>| {
+            for (x, ys) in leaf_pair_rows(a, b) {
+                for y in ys {
+                    pair(x, y, out);
+                }
+            }
+        },
+    )
+}
+
+/// The slot pairs of two leaves as [`self_join`] visits them, a row at a time: each slot `x`
+/// of `a` with the slots it is paired with, all of `b`, or when `a == b` (one leaf) the slots
+/// after `x`.
+///
+/// ```
+/// use algesurf_mesh::self_join::leaf_pair_rows;
+/// let rows: Vec<_> = leaf_pair_rows(0..3, 0..3).collect();
+/// assert_eq!(rows, vec![(0, 1..3), (1, 2..3), (2, 3..3)]);
+/// let rows: Vec<_> = leaf_pair_rows(0..2, 5..7).collect();
+/// assert_eq!(rows, vec![(0, 5..7), (1, 5..7)]);
+/// ```
+#[inline]
+pub fn leaf_pair_rows(
+    a: Range<usize>,
+    b: Range<usize>,
+) -> impl Iterator<Item = (usize, Range<usize>)> {
+    let same = a == b;
+    a.map(move |x| (x, if same { x + 1..b.end } else { b.clone() }))
+}
+
+/// [`self_join`] a pair of leaves at a time: `leaves(a, b, out)` for every pair of leaves
+/// whose boxes overlap, with their slots `a` and `b`, and once per leaf with `a == b` (its
+/// slots' pairs among themselves). [`self_join`] is this with a loop over the slot pairs in
+/// the order its documentation gives; a caller that keeps its items' boxes in slot order
+/// loops over them itself, with its own item test inlined in the loop (a call per slot
+/// pair, through `self_join`'s `pair`, was a fifth of the hull's pair check on the bunny:
+/// ~24 M calls for 5.3 M overlapping boxes).
+pub fn self_join_leaves<R: Send>(
+    tree: &impl JoinTree,
+    root: usize,
+    leaves: impl Fn(Range<usize>, Range<usize>, &mut Vec<R>) + Sync,
+) -> Vec<R> {
     Join {
         tree,
-        pair: &pair,
+        leaves: &leaves,
         _out: PhantomData,
     }
     .within(root, 0)
@@ -78,23 +123,21 @@ pub fn self_join<R: Send>(
 
 struct Join<'a, T, P, R> {
     tree: &'a T,
-    pair: &'a P,
-    /// What `pair` pushes.
+    leaves: &'a P,
+    /// What `leaves` pushes.
     _out: PhantomData<fn() -> R>,
 }
 
-impl<T: JoinTree, R: Send, P: Fn(usize, usize, &mut Vec<R>) + Sync> Join<'_, T, P, R> {
+impl<T: JoinTree, R: Send, P: Fn(Range<usize>, Range<usize>, &mut Vec<R>) + Sync>
+    Join<'_, T, P, R>
+{
     /// The pairs within subtree `n`.
     fn within(&self, n: usize, depth: usize) -> Vec<R> {
         match self.tree.children(n) {
             None => {
                 let mut out = Vec::new();
                 let slots = self.tree.leaf_slots(n);
-                for a in slots.clone() {
-                    for b in a + 1..slots.end {
-                        (self.pair)(a, b, &mut out);
-                    }
-                }
+                (self.leaves)(slots.clone(), slots, &mut out);
                 out
             }
             Some((l, r)) => {
@@ -124,11 +167,7 @@ impl<T: JoinTree, R: Send, P: Fn(usize, usize, &mut Vec<R>) + Sync> Join<'_, T, 
         match (self.tree.children(a), self.tree.children(b)) {
             (None, None) => {
                 let mut out = Vec::new();
-                for x in self.tree.leaf_slots(a) {
-                    for y in self.tree.leaf_slots(b) {
-                        (self.pair)(x, y, &mut out);
-                    }
-                }
+                (self.leaves)(self.tree.leaf_slots(a), self.tree.leaf_slots(b), &mut out);
                 out
             }
             // Split the inner one, the larger when both are inner.
