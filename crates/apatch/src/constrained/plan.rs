@@ -514,6 +514,52 @@ mod tests {
         assert!(!pa.fits(&a, 6));
     }
 
+    /// A plan's [`Replay`] reads each value where the unplanned solve finds it: `x1` fixed by
+    /// its single row, `x2` through its class (merged with `x1` by an equality), `x3` forced by
+    /// a step that reads `x2`, and a dense row that reads `x3` with two free classes left.
+    #[test]
+    fn the_replay_reads_fixed_merged_and_forced_values() {
+        let mut sys = System::with_capacity(4, 8);
+        sys.push([(1, 1.0)], 2.0);
+        sys.push([(1, 1.0), (2, -1.0)], 0.0);
+        sys.push([(2, 1.0), (3, 1.0)], 5.0);
+        sys.push([(0, 1.0), (3, 1.0), (4, 1.0)], 1.0);
+        let target = [0.5, 0.0, 0.0, 0.0, -0.7];
+        let plan = Plan::record(&sys, 5);
+        let rp = plan.replay.as_ref().expect("a replay");
+        assert_eq!(rp.class_from_fixed, vec![(1, 1)]);
+        assert_eq!(plan.steps, vec![Step::Single { row: 2, class: 3 }]);
+        assert_eq!(rp.step_src, vec![StepSrc::Known(5 + 1), StepSrc::A]);
+        assert_eq!(plan.dense, vec![3]);
+        assert_eq!(
+            rp.dense_src,
+            vec![Src::Column(0), Src::Known(5 + 3), Src::Column(1)]
+        );
+        assert_eq!(
+            rp.x_src,
+            vec![
+                Src::Column(0),
+                Src::Known(1),
+                Src::Known(5 + 1),
+                Src::Known(5 + 3),
+                Src::Column(1)
+            ]
+        );
+        let (x, r, m) = plan.replay(&sys, &target).expect("replayed");
+        let (y, ry, my) = nearest_solution(&sys, &target, true);
+        assert_eq!((m, my), (1, 1));
+        assert!(r < 1e-15 && ry < 1e-15, "{r} {ry}");
+        assert_eq!(&x[1..4], &[2.0, 2.0, 3.0]);
+        // x0 + x4 = −2 nearest (0.5, −0.7): both move by −0.9.
+        for (u, v) in x.iter().zip(&y) {
+            assert!((u - v).abs() < 1e-15, "{x:?} {y:?}");
+        }
+        assert!(
+            (x[0] + 0.4).abs() < 1e-15 && (x[4] + 1.6).abs() < 1e-15,
+            "{x:?}"
+        );
+    }
+
     /// The replay is the general solve's point, to rounding, and [`solve`] returns it whether
     /// or not a plan was kept.
     #[test]
