@@ -601,9 +601,9 @@ fn dense_solve(
 }
 
 /// `max(m, x)` for `m ≥ 0` and `x ≥ 0` or NaN, as `f64::max` gives it (a NaN `x` leaves `m`),
-/// in one compare-and-select: `f64::max` handles a NaN in either operand, which took a split
-/// face's residual (13.7 k instructions of the face's 83 k, `callgrind` on the bunny) 2.1 k
-/// instructions longer.
+/// in one compare-and-select: `f64::max` handles a NaN in either operand, which made a split
+/// face's residual (13.7 k instructions of a bunny split face's 83 k, `callgrind`) 2.1 k
+/// instructions longer (spot, `cachegrind`).
 #[inline]
 fn larger(m: f64, x: f64) -> f64 {
     if x > m { x } else { m }
