@@ -24,11 +24,10 @@ struct Plan {
     starts: Vec<usize>,
     columns: Vec<usize>,
     kinds: Vec<RowKind>,
-    /// As in [`Classes`] (a function of the pattern).
+    /// The number of unknowns.
+    n: usize,
+    /// The rows with one unknown, as in [`Classes`] (a function of the pattern).
     singles: Vec<usize>,
-    class_of: Vec<usize>,
-    fixed_from: Vec<Option<usize>>,
-    size: Vec<usize>,
     /// The cascade's pivot tests, with rows as indices into the system (kept for the tests:
     /// [`Plan::fits`] reads `checks`).
     #[cfg(test)]
@@ -170,7 +169,8 @@ impl Plan {
                 },
             })
             .collect();
-        let mut plan = Plan {
+        let replay = Replay::compile(sys, &classes, &cascaded.steps, &cascaded.dense);
+        Plan {
             starts: sys.starts.clone(),
             columns: sys.terms.iter().map(|t| t.0).collect(),
             kinds: sys.kinds().collect(),
@@ -180,111 +180,10 @@ impl Plan {
             reads,
             steps: cascaded.steps,
             dense: cascaded.dense,
+            n,
             singles: classes.singles,
-            class_of: classes.class_of,
-            fixed_from: classes.fixed_from,
-            size: classes.size,
-            replay: None,
-        };
-        plan.replay = plan.compile(sys);
-        plan
-    }
-
-    /// The [`Replay`] of this plan: which values are known at each step, followed through the
-    /// steps as [`Plan::replay`] will take them. `None` if a step's row has a term whose value
-    /// is not known then.
-    fn compile(&self, sys: &System) -> Option<Replay> {
-        let n = self.class_of.len();
-        let mut fixed = vec![false; n];
-        for &i in &self.singles {
-            fixed[sys.row(i).0[0].0] = true;
+            replay,
         }
-        let mut known: Vec<bool> = self.fixed_from.iter().map(Option::is_some).collect();
-        let class_from_fixed = (0..n)
-            .filter_map(|c| self.fixed_from[c].map(|j| (c, j)))
-            .collect();
-        // The value slot of unknown `j` once its class is known (`None` while it is not).
-        let known_slot = |known: &[bool], j: usize| {
-            let c = self.class_of[j];
-            if fixed[j] {
-                Some(j)
-            } else {
-                known[c].then_some(n + c)
-            }
-        };
-        let (mut step_src, mut step_start) = (Vec::new(), vec![0]);
-        for step in &self.steps {
-            let (rows, [a, b]) = match *step {
-                Step::Single { row, class } => ([row, usize::MAX], [class, usize::MAX]),
-                Step::Pair { rows, classes } => (rows, classes),
-            };
-            for &row in rows.iter().filter(|&&r| r != usize::MAX) {
-                for &(j, _) in sys.row(row).0 {
-                    let c = self.class_of[j];
-                    step_src.push(if c == a {
-                        StepSrc::A
-                    } else if c == b {
-                        StepSrc::B
-                    } else {
-                        StepSrc::Known(known_slot(&known, j)?)
-                    });
-                }
-                step_start.push(step_src.len());
-            }
-            for c in [a, b].into_iter().filter(|&c| c != usize::MAX) {
-                known[c] = true;
-            }
-        }
-        // The free classes (representatives not known after the steps), in index order.
-        let mut column = vec![usize::MAX; n];
-        let mut free = Vec::new();
-        for c in 0..n {
-            if self.class_of[c] == c && !known[c] {
-                column[c] = free.len();
-                free.push(c);
-            }
-        }
-        let mut member_start = vec![0; free.len() + 1];
-        for &c in &self.class_of {
-            if column[c] != usize::MAX {
-                member_start[column[c] + 1] += 1;
-            }
-        }
-        for k in 0..free.len() {
-            member_start[k + 1] += member_start[k];
-        }
-        let mut next = member_start.clone();
-        let mut members = vec![0; member_start[free.len()]];
-        for (j, &c) in self.class_of.iter().enumerate() {
-            if column[c] != usize::MAX {
-                members[next[column[c]]] = j;
-                next[column[c]] += 1;
-            }
-        }
-        let src = |j: usize| match known_slot(&known, j) {
-            Some(slot) => Src::Known(slot),
-            None => Src::Column(column[self.class_of[j]]),
-        };
-        let (mut dense_src, mut dense_start) = (Vec::new(), vec![0]);
-        for &i in &self.dense {
-            dense_src.extend(sys.row(i).0.iter().map(|&(j, _)| src(j)));
-            dense_start.push(dense_src.len());
-        }
-        Some(Replay {
-            class_from_fixed,
-            step_src,
-            step_start,
-            members,
-            member_start,
-            inv_sqrt_w: free
-                .iter()
-                .map(|&c| 1.0 / (self.size[c] as f64).sqrt())
-                .collect(),
-            weight: free.iter().map(|&c| self.size[c] as f64).collect(),
-            dense_src,
-            dense_start,
-            x_src: (0..n).map(src).collect(),
-        })
     }
 
     /// The summed weight of the terms `reads[s..e]` of `sys`, in term order as the cascade
@@ -302,7 +201,7 @@ impl Plan {
         // term is always `Single` and three or more always `Coupled` (`RowKind::of`), so only
         // the two-term rows (a split face's C0 joins, about half of its rows) are classified
         // again.
-        let pattern = self.class_of.len() == n
+        let pattern = self.n == n
             && self.starts == sys.starts
             && self.columns.iter().zip(&sys.terms).all(|(a, t)| *a == t.0)
             && self
@@ -333,7 +232,7 @@ impl Plan {
     /// [`nearest_solution`] of a system the plan [fits](Plan::fits): the recorded steps with
     /// `sys`'s numbers (each forced value from its row, the known values moved to the right
     /// side in term order), then the dense solve with the operations of `dense_solve` in its
-    /// order. `None` if the plan has no [`Replay`] (see [`Plan::compile`]).
+    /// order. `None` if the plan has no [`Replay`] (see [`Replay::compile`]).
     fn replay(&self, sys: &System, target: &[f64]) -> Option<(Vec<f64>, f64, usize)> {
         let rp = self.replay.as_ref()?;
         let n = target.len();
@@ -416,6 +315,108 @@ impl Plan {
             .collect();
         let residual = sys.relative_residual(&x, target);
         Some((x, residual, m))
+    }
+}
+
+impl Replay {
+    /// The replay of the plan with `classes`, `steps` and `dense` rows recorded on `sys`:
+    /// which values are known at each step, followed through the steps as [`Plan::replay`]
+    /// will take them. `None` if a step's row has a term whose value is not known then.
+    fn compile(sys: &System, classes: &Classes, steps: &[Step], dense: &[usize]) -> Option<Replay> {
+        let n = classes.class_of.len();
+        let mut fixed = vec![false; n];
+        for &i in &classes.singles {
+            fixed[sys.row(i).0[0].0] = true;
+        }
+        let mut known: Vec<bool> = classes.fixed_from.iter().map(Option::is_some).collect();
+        let class_from_fixed = (0..n)
+            .filter_map(|c| classes.fixed_from[c].map(|j| (c, j)))
+            .collect();
+        // The value slot of unknown `j` once its class is known (`None` while it is not).
+        let known_slot = |known: &[bool], j: usize| {
+            let c = classes.class_of[j];
+            if fixed[j] {
+                Some(j)
+            } else {
+                known[c].then_some(n + c)
+            }
+        };
+        let (mut step_src, mut step_start) = (Vec::new(), vec![0]);
+        for step in steps {
+            let (rows, [a, b]) = match *step {
+                Step::Single { row, class } => ([row, usize::MAX], [class, usize::MAX]),
+                Step::Pair {
+                    rows,
+                    classes: pair,
+                } => (rows, pair),
+            };
+            for &row in rows.iter().filter(|&&r| r != usize::MAX) {
+                for &(j, _) in sys.row(row).0 {
+                    let c = classes.class_of[j];
+                    step_src.push(if c == a {
+                        StepSrc::A
+                    } else if c == b {
+                        StepSrc::B
+                    } else {
+                        StepSrc::Known(known_slot(&known, j)?)
+                    });
+                }
+                step_start.push(step_src.len());
+            }
+            for c in [a, b].into_iter().filter(|&c| c != usize::MAX) {
+                known[c] = true;
+            }
+        }
+        // The free classes (representatives not known after the steps), in index order.
+        let mut column = vec![usize::MAX; n];
+        let mut free = Vec::new();
+        for c in 0..n {
+            if classes.class_of[c] == c && !known[c] {
+                column[c] = free.len();
+                free.push(c);
+            }
+        }
+        let mut member_start = vec![0; free.len() + 1];
+        for &c in &classes.class_of {
+            if column[c] != usize::MAX {
+                member_start[column[c] + 1] += 1;
+            }
+        }
+        for k in 0..free.len() {
+            member_start[k + 1] += member_start[k];
+        }
+        let mut next = member_start.clone();
+        let mut members = vec![0; member_start[free.len()]];
+        for (j, &c) in classes.class_of.iter().enumerate() {
+            if column[c] != usize::MAX {
+                members[next[column[c]]] = j;
+                next[column[c]] += 1;
+            }
+        }
+        let src = |j: usize| match known_slot(&known, j) {
+            Some(slot) => Src::Known(slot),
+            None => Src::Column(column[classes.class_of[j]]),
+        };
+        let (mut dense_src, mut dense_start) = (Vec::new(), vec![0]);
+        for &i in dense {
+            dense_src.extend(sys.row(i).0.iter().map(|&(j, _)| src(j)));
+            dense_start.push(dense_src.len());
+        }
+        Some(Replay {
+            class_from_fixed,
+            step_src,
+            step_start,
+            members,
+            member_start,
+            inv_sqrt_w: free
+                .iter()
+                .map(|&c| 1.0 / (classes.size[c] as f64).sqrt())
+                .collect(),
+            weight: free.iter().map(|&c| classes.size[c] as f64).collect(),
+            dense_src,
+            dense_start,
+            x_src: (0..n).map(src).collect(),
+        })
     }
 }
 
