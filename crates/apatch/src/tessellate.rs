@@ -466,6 +466,37 @@ impl ApatchSurface {
         num
     }
 
+    /// The most triangles [`ApatchSurface::tessellate`]`(n, m)` makes, counted without
+    /// tessellating: `n²` per face patch and `2m(n − 1)` per edge patch. An edge patch's
+    /// `n × m` cells would give `2nm`, but its first and last rows along the edge end in a
+    /// mesh vertex, where one triangle of each of their cells collapses to a segment and is
+    /// dropped. Fewer triangles are made only where other boundary rays of an edge patch meet
+    /// at the mesh edge (rays that stay at their start), which collapses more of its cells.
+    ///
+    /// For choosing a resolution before paying for it (the command's `--resolution auto`).
+    /// Zero when `n` or `m` is (`tessellate` refuses those).
+    ///
+    /// ```
+    /// use algesurf_apatch::{ApatchSurface, SurfaceOptions};
+    /// use algesurf_mesh::shapes::icosphere;
+    /// let mesh = icosphere(0); // the icosahedron
+    /// let normals: Vec<_> = mesh.positions().iter().map(|p| p.normalize()).collect();
+    /// let surface = ApatchSurface::new(&mesh, &normals, &SurfaceOptions::default()).unwrap();
+    /// // 20 face patches of 4 × 4 = 16 and 30 edge patches of 2·2·3 = 12 triangles.
+    /// assert_eq!(surface.max_triangle_count(4, 2), 20 * 16 + 30 * 12);
+    /// assert_eq!(surface.tessellate(4, 2).unwrap().triangles.len(), 680);
+    /// ```
+    pub fn max_triangle_count(&self, n: usize, m: usize) -> usize {
+        let edge_patches = (0..self.edges().len())
+            .filter(|&e| self.has_edge_patch(e))
+            .count();
+        let faces = self.hull().mesh().face_count();
+        faces.saturating_mul(n.saturating_mul(n)).saturating_add(
+            edge_patches
+                .saturating_mul(2usize.saturating_mul(m).saturating_mul(n.saturating_sub(1))),
+        )
+    }
+
     /// Whether edge `e` carries an edge patch (it has edge tetrahedra).
     fn has_edge_patch(&self, e: usize) -> bool {
         self.edges()[e][0].is_some() || self.edges()[e][1].is_some()
@@ -701,8 +732,6 @@ mod tests {
         }
     }
 
-    /// With one step across (`m = 1`) the edge patches have no interior rays but still close
-    /// the gap between the face patches' rows (they were once skipped, leaving holes).
     /// The blocks cut `0..count` into consecutive ranges, every patch once, with the sizes
     /// [`super::block_size`] promises; [`super::filled`] gives `n` copies.
     #[test]
@@ -726,6 +755,8 @@ mod tests {
         assert!(long.iter().all(|&x| x == 9));
     }
 
+    /// With one step across (`m = 1`) the edge patches have no interior rays but still close
+    /// the gap between the face patches' rows (they were once skipped, leaving holes).
     #[test]
     fn coarse_grids_stay_closed_including_one_step_across_edge_patches() {
         let mesh = icosphere(1);
@@ -734,6 +765,37 @@ mod tests {
         for (n, m) in [(1, 1), (1, 3), (4, 1), (2, 2), (3, 4)] {
             let t = s.tessellate(n, m).unwrap();
             assert_closed(&t.triangles, &format!("tessellate({n}, {m})"));
+        }
+    }
+
+    /// The count a resolution is chosen by is the tessellation's: on a closed sphere and a
+    /// torus (where no edge patch's boundary rays meet) exactly, at coarse and fine grids.
+    #[test]
+    fn max_triangle_count_is_the_tessellations_count() {
+        let sphere = icosphere(1);
+        let torus = algesurf_mesh::shapes::torus(12, 8, 1.5, 0.6);
+        for (what, mesh, normals) in [
+            (
+                "icosphere(1)",
+                &sphere,
+                sphere
+                    .positions()
+                    .iter()
+                    .map(|p| p.normalize())
+                    .collect::<Vec<_>>(),
+            ),
+            (
+                "torus",
+                &torus,
+                algesurf_mesh::vertex_normals(&torus, algesurf_mesh::NormalMethod::Loop).unwrap(),
+            ),
+        ] {
+            let s = ApatchSurface::new(mesh, &normals, &SurfaceOptions::default()).unwrap();
+            for (n, m) in [(1, 1), (1, 3), (2, 1), (3, 2), (5, 5), (8, 3)] {
+                let made = s.tessellate(n, m).unwrap().triangles.len();
+                assert_eq!(s.max_triangle_count(n, m), made, "{what} at ({n}, {m})");
+            }
+            assert_eq!(s.max_triangle_count(0, 4), 0);
         }
     }
 }

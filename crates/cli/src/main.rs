@@ -6,6 +6,7 @@
 mod check;
 mod convert;
 mod deviation;
+mod grid;
 mod info;
 mod memory;
 mod render;

@@ -10,7 +10,8 @@ use algesurf_inspect::render::{
 use algesurf_mesh::{RepairOptions, TriMesh, repair};
 use glam::DVec3;
 
-use crate::smooth::{GridArgs, SurfaceArgs, build};
+use crate::grid::GridArgs;
+use crate::smooth::{SurfaceArgs, build};
 
 /// Colouring (see the renderer's documentation).
 #[derive(clap::ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
@@ -183,7 +184,7 @@ pub fn run(args: &RenderArgs) -> Result<(), BoxError> {
     };
     let (mesh, source, wire_tolerance) = if args.smooth {
         let s = build(args.input.as_deref(), &args.surface, false)?;
-        let (n, m) = args.grid.steps();
+        let (n, m) = args.grid.steps(&s.surface);
         let tess = s.surface.tessellate(n, m)?;
         let mut mesh = RenderMesh::from(&tess);
         // The input (control) mesh's edges are chords of the surface: on convex parts they

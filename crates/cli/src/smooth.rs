@@ -13,6 +13,7 @@ use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
+use crate::grid::{GridArgs, Resolution};
 use algesurf_apatch::{
     ApatchError, ApatchSurface, FaceFunction, FreeParameterRule, GradientMagnitudes, PatchKind,
     SurfaceOptions, Tessellation,
@@ -168,28 +169,6 @@ pub struct SmoothArgs {
     /// Also write the summary as JSON to this file.
     #[arg(long)]
     pub report: Option<PathBuf>,
-}
-
-/// The tessellation resolution (shared by `smooth` and `render --smooth`).
-#[derive(clap::Args, Debug, Clone)]
-pub struct GridArgs {
-    /// Points per patch edge minus one: face patches are triangular grids of this
-    /// resolution, edge patches have this many steps along the mesh edge.
-    #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u32).range(1..=1024))]
-    pub resolution: u32,
-    /// Steps across each edge patch (default: the resolution).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
-    pub across: Option<u32>,
-}
-
-impl GridArgs {
-    /// `(n, m)`: steps along and across the patches.
-    pub fn steps(&self) -> (usize, usize) {
-        (
-            self.resolution as usize,
-            self.across.unwrap_or(self.resolution) as usize,
-        )
-    }
 }
 
 /// The options that decide the surface built on a mesh (shared by `smooth` and `check`).
@@ -590,8 +569,6 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
         )
         .into());
     }
-    let (n, m) = args.grid.steps();
-
     let Built {
         tri,
         surface,
@@ -609,6 +586,7 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
         .max()
         .unwrap_or(0);
 
+    let (n, m) = args.grid.steps(&surface);
     let (tess, dt, faults) = measured("tessellating", progress, || surface.tessellate(n, m));
     (t.tessellation, t.faults.tessellation) = (dt, faults);
     let mut tess = tess.map_err(|e| format!("{source}: cannot tessellate: {e}"))?;
@@ -671,6 +649,7 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
         "output": output.display().to_string(),
         "options": {
             "resolution": n,
+            "resolution_auto": args.grid.resolution == Resolution::Auto,
             "across": m,
             "normals": args.surface.normals.name(),
             "free_parameters": args.surface.free_parameters.name(),
@@ -763,8 +742,14 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
         );
         let _ = writeln!(
             s,
-            "output: {} triangles, {} vertices (resolution {n}, across {m})",
-            out_triangles, out_vertices
+            "output: {} triangles, {} vertices (resolution {n}{}, across {m})",
+            out_triangles,
+            out_vertices,
+            if args.grid.resolution == Resolution::Auto {
+                " auto"
+            } else {
+                ""
+            }
         );
         let _ = writeln!(
             s,

@@ -47,6 +47,8 @@ fn default_mesh_writes_a_closed_glb() {
         "time:",
         "min free-parameter margin",
         "max deviation",
+        // `--resolution auto`: a coarse mesh gets the full 8 steps.
+        "(resolution 8 auto, across 8)",
     ] {
         assert!(stdout.contains(key), "summary lacks {key:?}:\n{stdout}");
     }
@@ -220,6 +222,7 @@ fn icosphere_with_sphere_normals_gives_the_sphere() {
     assert_eq!(json["ok"], true);
     assert_eq!(json["options"]["normals"], "file");
     assert_eq!(json["options"]["resolution"], 5);
+    assert_eq!(json["options"]["resolution_auto"], false);
     for stage in [
         "read",
         "repair",
