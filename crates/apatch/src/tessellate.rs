@@ -5,14 +5,17 @@
 //! face's apex are computed by the face patch and reused by the edge patch that shares them;
 //! rays whose root is t = 0 (mesh vertices, zero convex edges, points where F = 0 on an edge)
 //! give the same point from every side and are keyed by the mesh element, so no position
-//! appears twice. Patches are evaluated in parallel and numbered in a serial pass, so the
-//! output is the same for every run and thread count.
+//! appears twice. Patches are evaluated in parallel and numbered as one serial walk over them
+//! would number them (worked out in parallel, `numbering`), so the output is the same for
+//! every run and thread count.
 
+mod numbering;
 mod rays;
 
 use crate::surface::FaceFunction;
 use crate::{ApatchError, ApatchSurface};
 use glam::DVec3;
+use numbering::Numbering;
 use rayon::prelude::*;
 use rays::{EdgeRays, FaceRays};
 
@@ -127,10 +130,18 @@ fn filled<T: Copy + Send + Sync>(n: usize, x: T) -> Vec<T> {
     v
 }
 
+/// The per-vertex columns of a tessellation, `((positions, normals), (flags, owner))`, as one
+/// parallel pass gathers them.
+type VertexColumns = ((Vec<DVec3>, Vec<DVec3>), (Vec<u8>, Vec<u32>));
+
 /// The rays of `count` patches of `per` rays each, in blocks of consecutive patches (see
 /// [`ApatchSurface::tessellate`], pass 1).
 struct RayBlocks {
     blocks: Vec<Vec<RayPoint>>,
+    /// Each ray's `at_start`, in the same blocks: the numbering reads only these, a byte a
+    /// ray instead of a 56-byte [`RayPoint`] (three passes over the rays themselves made the
+    /// parallel numbering as slow as the serial one, fandisk at 8 × 8).
+    at_start: Vec<Vec<bool>>,
     /// Patches per block.
     size: usize,
     /// Rays per patch.
@@ -141,18 +152,33 @@ impl RayBlocks {
     /// Evaluates the blocks in parallel; `fill(patch, out)` appends the patch's `per` rays.
     fn new(count: usize, per: usize, fill: impl Fn(usize, &mut Vec<RayPoint>) + Sync) -> Self {
         let size = block_size(count);
-        let blocks = patch_blocks(count)
+        let (blocks, at_start) = patch_blocks(count)
             .into_par_iter()
             .map(|patches| {
                 let mut out = Vec::with_capacity(patches.len() * per);
+                let mut at_start = Vec::with_capacity(patches.len() * per);
                 for p in patches {
+                    let before = out.len();
                     fill(p, &mut out);
+                    // Read while the patch's rays are in cache.
+                    at_start.extend(out[before..].iter().map(|r| r.at_start));
                 }
                 debug_assert_eq!(out.len() % per.max(1), 0);
-                out
+                (out, at_start)
             })
-            .collect();
-        RayBlocks { blocks, size, per }
+            .unzip();
+        RayBlocks {
+            blocks,
+            at_start,
+            size,
+            per,
+        }
+    }
+
+    /// Which rays of patch `p` stay at their start.
+    fn at_start(&self, p: usize) -> &[bool] {
+        let start = (p % self.size) * self.per;
+        &self.at_start[p / self.size][start..start + self.per]
     }
 
     /// The rays of patch `p`.
@@ -166,11 +192,11 @@ impl ApatchSurface {
     /// Triangulates the surface: face patches at resolution `n` (n + 1 points per edge), edge
     /// patches with `n` steps along the edge and `m` across.
     ///
-    /// Four passes: the rays of all patches (parallel, one buffer per patch), the numbering of
-    /// the vertices (serial and integer-only: it decides which rays share a vertex, in patch
-    /// order), then the vertex data and the triangles (parallel gathers and fills whose every
-    /// output slot has one writer). The numbering is that of a serial pass over the patches, so
-    /// the output does not depend on the thread count.
+    /// Four passes, each parallel: the rays of all patches (in blocks of patches), the
+    /// numbering of the vertices (integer-only: it decides which rays share a vertex), then the
+    /// vertex data and the triangles (gathers and fills whose every output slot has one
+    /// writer). The numbering is that of a serial walk over the patches in order, so the
+    /// output does not depend on the thread count.
     pub fn tessellate(&self, n: usize, m: usize) -> Result<Tessellation, ApatchError> {
         if n == 0 || m == 0 {
             return Err(ApatchError::Degenerate(
@@ -224,35 +250,24 @@ impl ApatchSurface {
             };
             (ray, patch)
         };
-        let mut positions = Vec::new();
-        let mut normals = Vec::new();
-        (0..total)
+        // One pass reads each vertex's ray once for all four columns.
+        let ((positions, normals), (flags, owner)): VertexColumns = (0..total)
             .into_par_iter()
             .map(|v| {
                 if v < nv {
                     (
-                        mesh.positions()[v],
-                        self.hull().normals()[v].normalize_or_zero(),
+                        (
+                            mesh.positions()[v],
+                            self.hull().normals()[v].normalize_or_zero(),
+                        ),
+                        (0, u32::MAX),
                     )
                 } else {
-                    let r = ray(v).0;
-                    (r.position, r.normal)
-                }
-            })
-            .unzip_into_vecs(&mut positions, &mut normals);
-        let mut flags = Vec::new();
-        let mut owner = Vec::new();
-        (0..total)
-            .into_par_iter()
-            .map(|v| {
-                if v < nv {
-                    (0, u32::MAX)
-                } else {
                     let (r, patch) = ray(v);
-                    (r.flags(), patch)
+                    ((r.position, r.normal), (r.flags(), patch))
                 }
             })
-            .unzip_into_vecs(&mut flags, &mut owner);
+            .unzip();
         // The rays have been read out: their ~50 MB (the bunny at 3 × 2) go back to the
         // allocator before the triangles' buffers are taken, which can then reuse them
         // instead of fresh pages.
@@ -367,103 +382,6 @@ impl ApatchSurface {
                 flags,
             }),
         })
-    }
-
-    /// Numbers the vertices in patch order: face patches by face, each in grid order, then edge
-    /// patches by edge, each row by row; a ray gets a new vertex unless it stays at its start
-    /// on a mesh edge (t = 0) and an earlier patch already made that point.
-    fn number_vertices(
-        &self,
-        n: usize,
-        m: usize,
-        grid: &[[usize; 3]],
-        edges_of: &[[usize; 3]],
-        face_rays: &RayBlocks,
-        edge_rays: &RayBlocks,
-    ) -> Numbering {
-        let mesh = self.hull().mesh();
-        let hull_edges = self.hull().edges();
-        let (nf, ne) = (mesh.face_count(), self.edges().len());
-        let nv = mesh.vertex_count();
-        let per_face = grid.len();
-        let inner = (n - 1) * (m - 1);
-        let classes: Vec<GridPoint> = grid.iter().map(|g| grid_point(g, n)).collect();
-        // The pass below is serial; its buffers are first written in parallel ([`filled`]),
-        // `source` too (then emptied: its pushes land in memory already mapped).
-        let mut source = filled(nf * per_face + ne * inner, (0u32, 0u32));
-        source.clear();
-        let mut num = Numbering {
-            face_ids: filled(nf * per_face, 0),
-            edge_ids: filled(ne * inner, u32::MAX),
-            source,
-            on_edge: filled(ne * (n + 1), u32::MAX),
-            face_row: filled(nf * 3 * (n + 1), u32::MAX),
-        };
-        // The next vertex id, for ray `k` of patch `patch`.
-        let new = |source: &mut Vec<(u32, u32)>, patch: usize, k: usize| -> u32 {
-            source.push((patch as u32, k as u32));
-            (nv + source.len() - 1) as u32
-        };
-        for f in 0..nf {
-            let tri = mesh.triangles()[f];
-            let ef = edges_of[f];
-            // Whether the face edge opposite z runs against its hull edge: the position s along
-            // the hull edge counts from the hull edge's first vertex.
-            let reversed: [bool; 3] =
-                std::array::from_fn(|z| tri[(z + 1) % 3] == hull_edges[ef[z]].vertices[0]);
-            let rays = face_rays.patch(f);
-            for (k, (g, class)) in grid.iter().zip(&classes).enumerate() {
-                let r = f * per_face + k;
-                let id = match *class {
-                    GridPoint::Corner(c) => tri[c],
-                    GridPoint::Edge(z) => {
-                        let e = ef[z];
-                        // Weight of the edge's other vertex.
-                        let wa = g[(z + 1) % 3];
-                        let s = if reversed[z] { n - wa } else { wa };
-                        if rays[k].at_start {
-                            let slot = &mut num.on_edge[e * (n + 1) + s];
-                            if *slot == u32::MAX {
-                                *slot = new(&mut num.source, f, k);
-                            }
-                            *slot
-                        } else {
-                            let id = new(&mut num.source, f, k);
-                            num.face_row[(f * 3 + z) * (n + 1) + s] = id;
-                            id
-                        }
-                    }
-                    GridPoint::Interior => new(&mut num.source, f, k),
-                };
-                num.face_ids[r] = id;
-            }
-        }
-        if inner > 0 {
-            for e in 0..ne {
-                if !self.has_edge_patch(e) {
-                    continue;
-                }
-                let rays = edge_rays.patch(e);
-                // Rows i = 1 … n − 1 of m − 1 rays.
-                for (row, rays) in rays.chunks(m - 1).enumerate() {
-                    let s = n - (row + 1);
-                    for (j, ray) in rays.iter().enumerate() {
-                        let k = row * (m - 1) + j;
-                        let id = if ray.at_start {
-                            let slot = &mut num.on_edge[e * (n + 1) + s];
-                            if *slot == u32::MAX {
-                                *slot = new(&mut num.source, nf + e, k);
-                            }
-                            *slot
-                        } else {
-                            new(&mut num.source, nf + e, k)
-                        };
-                        num.edge_ids[e * inner + k] = id;
-                    }
-                }
-            }
-        }
-        num
     }
 
     /// The most triangles [`ApatchSurface::tessellate`]`(n, m)` makes, counted without
@@ -647,23 +565,6 @@ fn grid_index(n: usize, a: usize, b: usize) -> usize {
     // Rows a' = n … a + 1 hold n − a' + 1 points each: Σ_{k=1}^{n−a} k.
     let before = (n - a) * (n - a + 1) / 2;
     before + (n - a - b)
-}
-
-/// The vertex numbering of a tessellation (see [`ApatchSurface::tessellate`]).
-struct Numbering {
-    /// Vertex of every face grid point, `face × grid point`.
-    face_ids: Vec<u32>,
-    /// Vertex of every edge-patch interior point, `u32::MAX` where an edge has no patch.
-    edge_ids: Vec<u32>,
-    /// Ray of each vertex after the mesh vertices: `(patch, index of the ray in the patch's
-    /// buffer)`, patches numbered as in [`Tessellation::triangle_patch`] (kept as a pair, not
-    /// a flat ray index, so the gathers need no integer division).
-    source: Vec<(u32, u32)>,
-    /// Rays that stay on a mesh edge (t = 0), shared by every patch: `(edge, s)` with `s`
-    /// counted from the edge's first vertex. `u32::MAX`: none.
-    on_edge: Vec<u32>,
-    /// Rows of face patches along mesh edges that leave the edge: `(face, local edge, s)`.
-    face_row: Vec<u32>,
 }
 
 /// The `n²` triangles of a face patch from the vertex ids of its grid (`face_grid` order).
