@@ -109,38 +109,69 @@ impl ApatchSurface {
         }
     }
 
-    /// All pieces of F.
+    /// All pieces of F: face pieces in face order, then edge pieces in edge order, the
+    /// positive side before the negative.
     pub fn pieces(&self) -> Vec<Piece<'_>> {
+        let owners = (0..self.faces().len())
+            .map(Owner::Face)
+            .chain((0..self.edges().len()).map(Owner::Edge));
+        self.pieces_of(owners)
+    }
+
+    /// The pieces of the faces and edges `owners`, in that order, each owner's as in
+    /// [`ApatchSurface::pieces`] (none for a planar face, an edge without tetrahedra, or an
+    /// index out of range): a sample of F without listing all of it.
+    ///
+    /// ```
+    /// use algesurf_apatch::{ApatchSurface, Owner, SurfaceOptions};
+    /// use algesurf_mesh::shapes::icosphere;
+    /// let mesh = icosphere(0);
+    /// let normals: Vec<_> = mesh.positions().iter().map(|p| p.normalize()).collect();
+    /// let s = ApatchSurface::new(&mesh, &normals, &SurfaceOptions::default())?;
+    /// // A convex face of the icosahedron has one piece, each edge two (one per side).
+    /// let some = s.pieces_of([Owner::Face(0), Owner::Edge(4)]);
+    /// assert_eq!(some.len(), s.pieces().iter().filter(|p| {
+    ///     p.owner == Owner::Face(0) || p.owner == Owner::Edge(4)
+    /// }).count());
+    /// assert!(s.pieces_of([Owner::Face(1000)]).is_empty());
+    /// # Ok::<(), algesurf_apatch::ApatchError>(())
+    /// ```
+    pub fn pieces_of(&self, owners: impl IntoIterator<Item = Owner>) -> Vec<Piece<'_>> {
         let mut out = Vec::new();
-        for (f, ff) in self.faces().iter().enumerate() {
-            match ff {
-                FaceFunction::Planar => {}
-                FaceFunction::Convex { side, cubic } => out.push(Piece {
-                    owner: Owner::Face(f),
-                    side: *side,
-                    function: PieceFunction::Face(cubic),
-                }),
-                FaceFunction::Split(split) => {
-                    for (s, side) in split.sides.iter().zip([Side::Positive, Side::Negative]) {
-                        for a in 0..3 {
+        for owner in owners {
+            match owner {
+                Owner::Face(f) => match self.faces().get(f) {
+                    None | Some(FaceFunction::Planar) => {}
+                    Some(FaceFunction::Convex { side, cubic }) => out.push(Piece {
+                        owner,
+                        side: *side,
+                        function: PieceFunction::Face(cubic),
+                    }),
+                    Some(FaceFunction::Split(split)) => {
+                        for (s, side) in split.sides.iter().zip([Side::Positive, Side::Negative]) {
+                            for a in 0..3 {
+                                out.push(Piece {
+                                    owner,
+                                    side,
+                                    function: PieceFunction::Split(s, a),
+                                });
+                            }
+                        }
+                    }
+                },
+                Owner::Edge(e) => {
+                    let Some(pair) = self.edges().get(e) else {
+                        continue;
+                    };
+                    for (c, side) in pair.iter().zip([Side::Positive, Side::Negative]) {
+                        if let Some(c) = c {
                             out.push(Piece {
-                                owner: Owner::Face(f),
+                                owner,
                                 side,
-                                function: PieceFunction::Split(s, a),
+                                function: PieceFunction::Edge(c),
                             });
                         }
                     }
-                }
-            }
-        }
-        for (e, pair) in self.edges().iter().enumerate() {
-            for (c, side) in pair.iter().zip([Side::Positive, Side::Negative]) {
-                if let Some(c) = c {
-                    out.push(Piece {
-                        owner: Owner::Edge(e),
-                        side,
-                        function: PieceFunction::Edge(c),
-                    });
                 }
             }
         }

@@ -4,6 +4,7 @@
 #![deny(unsafe_code)]
 
 mod check;
+mod continuity;
 mod convert;
 mod deviation;
 mod grid;

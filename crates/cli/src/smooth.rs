@@ -591,11 +591,14 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
     (t.tessellation, t.faults.tessellation) = (dt, faults);
     let mut tess = tess.map_err(|e| format!("{source}: cannot tessellate: {e}"))?;
 
-    let ((deviation, diagonal), dt, faults) = measured("checking", progress, || {
-        crate::deviation::max_deviation(
-            &tri,
-            &tess.positions,
-            &crate::deviation::input_face_hints(&surface, &tess),
+    let (((deviation, diagonal), continuity), dt, faults) = measured("checking", progress, || {
+        (
+            crate::deviation::max_deviation(
+                &tri,
+                &tess.positions,
+                &crate::deviation::input_face_hints(&surface, &tess),
+            ),
+            crate::continuity::sampled_continuity(&surface),
         )
     });
     (t.check, t.faults.check) = (dt, faults);
@@ -685,6 +688,14 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
             "max": deviation,
             "max_relative": rel_dev,
             "bbox_diagonal": diagonal,
+        },
+        "continuity": {
+            "faces_sampled": continuity.faces,
+            "faces": continuity.of,
+            "facets": continuity.facets,
+            "samples": continuity.samples,
+            "max_value_relative": continuity.value,
+            "max_gradient_relative": continuity.gradient,
         },
         "missed_rays": missed,
         "multiple_roots": multiple,
@@ -786,6 +797,16 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
             s,
             "max deviation from the input: {deviation:.3e} ({rel_dev:.3e} of the bbox diagonal)"
         );
+        let _ = writeln!(
+            s,
+            "continuity (C1 on {} of {} hull faces, {} facets, {} points): value {:.1e}, gradient {:.1e} (relative; every facet: algesurf check)",
+            continuity.faces,
+            continuity.of,
+            continuity.facets,
+            continuity.samples,
+            continuity.value,
+            continuity.gradient
+        );
         let _ = writeln!(s, "missed rays: {missed}, multiple roots: {multiple}");
     }
     {
@@ -797,6 +818,20 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
     }
     if let Some(path) = &args.report {
         write_atomic(path, &(serde_json::to_string_pretty(&report)? + "\n"))?;
+    }
+    // `!(x <= t)`: a NaN (a gradient vanishing on a facet) warns too.
+    if !(continuity.value <= algesurf_inspect::check::C1_VALUE
+        && continuity.gradient <= algesurf_inspect::check::C1_GRADIENT)
+    {
+        eprintln!(
+            "algesurf: warning: {source}: C1 on the sampled facets is above `algesurf check`'s \
+             thresholds (value {:.1e} > {:.0e} or gradient {:.1e} > {:.0e}); run `algesurf check` \
+             for every facet",
+            continuity.value,
+            algesurf_inspect::check::C1_VALUE,
+            continuity.gradient,
+            algesurf_inspect::check::C1_GRADIENT
+        );
     }
     if ok {
         Ok(ExitCode::SUCCESS)

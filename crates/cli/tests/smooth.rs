@@ -49,6 +49,8 @@ fn default_mesh_writes_a_closed_glb() {
         "max deviation",
         // `--resolution auto`: a coarse mesh gets the full 8 steps.
         "(resolution 8 auto, across 8)",
+        // Small meshes have every face in the continuity sample.
+        "continuity (C1 on 20 of 20 hull faces",
     ] {
         assert!(stdout.contains(key), "summary lacks {key:?}:\n{stdout}");
     }
@@ -223,6 +225,12 @@ fn icosphere_with_sphere_normals_gives_the_sphere() {
     assert_eq!(json["options"]["normals"], "file");
     assert_eq!(json["options"]["resolution"], 5);
     assert_eq!(json["options"]["resolution_auto"], false);
+    // C1 on the sampled facets (here every face's) within `algesurf check`'s thresholds.
+    let c = &json["continuity"];
+    assert_eq!(c["faces_sampled"], c["faces"]);
+    assert!(c["facets"].as_u64().unwrap() > 0 && c["samples"].as_u64().unwrap() > 0);
+    assert!(c["max_value_relative"].as_f64().unwrap() <= 1e-10, "{c}");
+    assert!(c["max_gradient_relative"].as_f64().unwrap() <= 1e-8, "{c}");
     for stage in [
         "read",
         "repair",
