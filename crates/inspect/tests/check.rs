@@ -321,3 +321,28 @@ fn duplicates_and_open_edges_of_the_tessellation_are_counted() {
         "an open input may have boundary edges"
     );
 }
+
+/// A view of some faces and edges measures exactly the facets among their pieces: with every
+/// owner it is the whole surface's measure, with one face and its edges a nonempty part of it.
+#[test]
+fn a_view_of_some_owners_measures_the_facets_among_them() {
+    use algesurf_apatch::Owner;
+    let s = surface(&torus(12, 8, 1.5, 0.6));
+    let (nf, ne) = (s.faces().len(), s.edges().len());
+    let all = (0..nf).map(Owner::Face).chain((0..ne).map(Owner::Edge));
+    let whole = continuity(&ApatchView::new(&s), 3);
+    let viewed = continuity(&ApatchView::of_owners(&s, all), 3);
+    assert_eq!(whole.facets, viewed.facets);
+    // Face 0 and the edges around it.
+    let edges = s
+        .hull()
+        .edges()
+        .iter()
+        .enumerate()
+        .filter(|(_, e)| e.face_k == 0 || e.face_l == Some(0))
+        .map(|(e, _)| Owner::Edge(e));
+    let view = ApatchView::of_owners(&s, std::iter::once(Owner::Face(0)).chain(edges));
+    let part = continuity(&view, 3);
+    assert!(!part.facets.is_empty() && part.facets.len() < whole.facets.len());
+    assert!(part.value.value <= whole.value.value && part.gradient.value <= whole.gradient.value);
+}
