@@ -50,6 +50,26 @@ struct EdgePoint {
     weight: usize,
 }
 
+/// The new ids of one block of consecutive patches (pass 4): the patches' first ids follow
+/// each other ([`ApatchSurface::number_vertices`], pass 3), so the block's ids run on from its
+/// first patch's, and each new id's ray goes to the block's share of `source` at the id's
+/// offset from the block's first.
+struct BlockIds<'s> {
+    first: u32,
+    next: u32,
+    source: &'s mut [(u32, u32)],
+}
+
+impl BlockIds<'_> {
+    /// The next id, for ray `k` of patch `patch`.
+    fn take(&mut self, patch: usize, k: usize) -> u32 {
+        let id = self.next;
+        self.source[(id - self.first) as usize] = (patch as u32, k as u32);
+        self.next += 1;
+        id
+    }
+}
+
 /// What the passes share: the surface, its counts and the face grid's edge points.
 struct Walk<'a> {
     surface: &'a ApatchSurface,
@@ -253,42 +273,41 @@ impl ApatchSurface {
             .zip(face_ids.par_chunks_mut(face_block * per_face))
             .zip(face_row.par_chunks_mut(face_block * 3 * (n + 1)))
             .zip(source_parts)
-            .map(|(((faces, ids), rows), src)| {
+            .map(|(((faces, ids), rows), source)| {
                 let mut later = Vec::new();
-                let mut at = 0;
+                let first = starts[faces.start];
+                let mut new = BlockIds {
+                    first,
+                    next: first,
+                    source,
+                };
                 for (i, f) in faces.clone().enumerate() {
                     let tri = mesh.triangles()[f];
                     let ids = &mut ids[i * per_face..(i + 1) * per_face];
                     let rows = &mut rows[i * 3 * (n + 1)..(i + 1) * 3 * (n + 1)];
                     let at_start = face_rays.at_start(f);
+                    debug_assert_eq!(new.next, starts[f]);
                     // Corners are the mesh's vertices; every other point takes a new id,
                     // unless it is an edge point whose slot an earlier ray made.
-                    let mut id = starts[f];
-                    let mut new = |k: usize, src: &mut [(u32, u32)]| -> u32 {
-                        src[at] = (f as u32, k as u32);
-                        at += 1;
-                        id += 1;
-                        id - 1
-                    };
                     let mut edge_points = walk.edge_points.iter();
                     for (k, class) in classes.iter().enumerate() {
                         ids[k] = match *class {
                             GridPoint::Corner(c) => tri[c],
-                            GridPoint::Interior => new(k, src),
+                            GridPoint::Interior => new.take(f, k),
                             GridPoint::Edge(_) => {
                                 let p =
                                     edge_points.next().expect("the grid's edge points in order");
                                 debug_assert_eq!(p.k, k);
                                 let slot = walk.face_slot(f, p);
                                 if !at_start[k] {
-                                    let v = new(k, src);
+                                    let v = new.take(f, k);
                                     rows[p.z * (n + 1) + slot % (n + 1)] = v;
                                     v
                                 } else if taken(slot, walk.face_order(f, k)) {
                                     later.push((f * per_face + k, slot));
                                     u32::MAX
                                 } else {
-                                    let v = new(k, src);
+                                    let v = new.take(f, k);
                                     on_edge[slot].store(v, Ordering::Relaxed);
                                     v
                                 }
@@ -305,28 +324,31 @@ impl ApatchSurface {
             .par_iter()
             .zip(edge_ids.par_chunks_mut(edge_chunk))
             .zip(edge_sources)
-            .map(|((edges, ids), src)| {
+            .map(|((edges, ids), source)| {
                 let mut later = Vec::new();
-                let mut at = 0;
+                let first = starts[nf + edges.start];
+                let mut new = BlockIds {
+                    first,
+                    next: first,
+                    source,
+                };
                 for (i, e) in edges.clone().enumerate() {
                     if !walk.edge_numbered(e) {
                         continue;
                     }
                     let ids = &mut ids[i * walk.inner..(i + 1) * walk.inner];
-                    let mut id = starts[nf + e];
+                    debug_assert_eq!(new.next, starts[nf + e]);
                     for (k, &at_start) in edge_rays.at_start(e).iter().enumerate() {
                         let slot = walk.edge_slot(e, k);
                         ids[k] = if at_start && taken(slot, walk.edge_order(e, k)) {
                             later.push((e * walk.inner + k, slot));
                             u32::MAX
                         } else {
-                            src[at] = ((nf + e) as u32, k as u32);
-                            at += 1;
-                            id += 1;
+                            let v = new.take(nf + e, k);
                             if at_start {
-                                on_edge[slot].store(id - 1, Ordering::Relaxed);
+                                on_edge[slot].store(v, Ordering::Relaxed);
                             }
-                            id - 1
+                            v
                         };
                     }
                 }
