@@ -645,9 +645,15 @@ impl Topology {
     }
 
     /// For each face, the id of its component in [`Topology::components`] order (faces joined
-    /// across shared edges; components numbered in the order of their lowest face). A plain
-    /// search, without the orientation and the summary (genus,
-    /// boundary loops) `components` works out: a third of its time on the Stanford bunny.
+    /// across shared edges; components numbered in the order of their lowest face), without
+    /// the orientation and the summary (genus, boundary loops) `components` works out.
+    ///
+    /// A union–find over the edges in their order, then one pass over the faces that numbers
+    /// each component when its lowest face comes up. A search from face to face gave the same
+    /// ids in the same few million instructions on the Stanford bunny but took 15–28 ms on one
+    /// core there (`perf`), its reads of the corner and edge tables scattered over the mesh in
+    /// the order the search reached the faces; the edges' order reads those tables
+    /// sequentially, and the sets (one `u32` a face) stay in cache.
     ///
     /// ```
     /// use algesurf_mesh::Topology;
@@ -657,29 +663,49 @@ impl Topology {
     /// ```
     pub fn face_components(&self) -> Vec<u32> {
         let nf = self.face_count();
-        let mut comp = vec![NONE; nf];
-        let mut count = 0u32;
-        let mut stack = Vec::new();
-        for s in 0..nf {
-            if comp[s] != NONE {
-                continue;
+        // `parent[f] ≤ f` always (the larger root is hung under the smaller), so a set's root
+        // is its lowest face, and the walk halves its path as it goes.
+        let mut parent: Vec<u32> = (0..nf as u32).collect();
+        fn root(parent: &mut [u32], mut f: u32) -> u32 {
+            while parent[f as usize] != f {
+                let up = parent[parent[f as usize] as usize];
+                parent[f as usize] = up;
+                f = up;
             }
-            comp[s] = count;
-            stack.push(s as u32);
-            while let Some(f) = stack.pop() {
-                for c in self.face_corners(f as usize) {
-                    for &h in self.edge_half_edges(self.corner_edge[c as usize]) {
-                        let g = self.corner_face[h as usize];
-                        if comp[g as usize] == NONE {
-                            comp[g as usize] = count;
-                            stack.push(g);
-                        }
-                    }
+            f
+        }
+        for e in 0..self.edges.len() {
+            let sides = &self.edge_corners
+                [self.edge_offsets[e] as usize..self.edge_offsets[e + 1] as usize];
+            let Some((&first, rest)) = sides.split_first() else {
+                continue;
+            };
+            let a = self.corner_face[first as usize];
+            for &h in rest {
+                let (ra, rb) = (
+                    root(&mut parent, a),
+                    root(&mut parent, self.corner_face[h as usize]),
+                );
+                if ra != rb {
+                    let (lo, hi) = if ra < rb { (ra, rb) } else { (rb, ra) };
+                    parent[hi as usize] = lo;
                 }
             }
-            count += 1;
         }
-        comp
+        // Faces in order, each replaced by its component's number: `parent[f] ≤ f`, and a
+        // lower face has its number already, which is its root's (by induction on `f`); a
+        // root (`parent[f] = f`, the lowest face of its set) takes the next number.
+        let mut count = 0u32;
+        for f in 0..nf {
+            let p = parent[f] as usize;
+            parent[f] = if p == f {
+                count += 1;
+                count - 1
+            } else {
+                parent[p]
+            };
+        }
+        parent
     }
 
     /// Face components (faces sharing an edge are connected) with their Euler characteristic,

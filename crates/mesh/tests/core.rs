@@ -410,3 +410,59 @@ proptest! {
         prop_assert_eq!(out.euler_characteristic(), 2);
     }
 }
+
+/// `face_components` on random triangle soups over few vertices (edges shared by one to
+/// several faces, components interleaved in the face order) equals a search over the faces
+/// that share an edge, with components numbered in the order of their lowest face.
+#[test]
+fn face_components_are_the_edge_connected_sets_numbered_by_lowest_face() {
+    let mut s = 5u64;
+    let mut next = |n: usize| {
+        s = s
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((s >> 33) % n as u64) as u32
+    };
+    for case in 0..40 {
+        let nv = 6 + case % 30;
+        let nf = 1 + (case * 7) % 60;
+        let mut tris = Vec::new();
+        while tris.len() < nf {
+            let t = [(); 3].map(|_| next(nv));
+            if t[0] != t[1] && t[1] != t[2] && t[0] != t[2] {
+                tris.push(t);
+            }
+        }
+        let topo = algesurf_mesh::Topology::from_triangles(nv, &tris).unwrap();
+        // Reference: faces by undirected edge, then a search from each lowest unvisited face.
+        let mut by_edge: std::collections::HashMap<(u32, u32), Vec<usize>> = Default::default();
+        for (f, t) in tris.iter().enumerate() {
+            for c in 0..3 {
+                let (a, b) = (t[c], t[(c + 1) % 3]);
+                by_edge.entry((a.min(b), a.max(b))).or_default().push(f);
+            }
+        }
+        let mut want = vec![u32::MAX; nf];
+        let mut count = 0;
+        for s in 0..nf {
+            if want[s] != u32::MAX {
+                continue;
+            }
+            want[s] = count;
+            let mut stack = vec![s];
+            while let Some(f) = stack.pop() {
+                for c in 0..3 {
+                    let (a, b) = (tris[f][c], tris[f][(c + 1) % 3]);
+                    for &g in &by_edge[&(a.min(b), a.max(b))] {
+                        if want[g] == u32::MAX {
+                            want[g] = count;
+                            stack.push(g);
+                        }
+                    }
+                }
+            }
+            count += 1;
+        }
+        assert_eq!(topo.face_components(), want, "case {case}: {tris:?}");
+    }
+}
