@@ -52,8 +52,13 @@ pub(crate) fn max_deviation(input: &TriMesh, points: &[DVec3], hint: &[u32]) -> 
 
 /// Per tessellation vertex, an input face near it ([`max_deviation`]'s hint): the input face
 /// of the hull face its last triangle's patch belongs to (an edge patch's first face);
-/// `u32::MAX` for a vertex in no triangle.
-pub(crate) fn input_face_hints(surface: &ApatchSurface, tess: &Tessellation) -> Vec<u32> {
+/// `u32::MAX` for a vertex in no triangle. `vertex_count`: the tessellation's, whose positions
+/// may have moved into the output mesh.
+pub(crate) fn input_face_hints(
+    surface: &ApatchSurface,
+    tess: &Tessellation,
+    vertex_count: usize,
+) -> Vec<u32> {
     let hull = surface.hull();
     let input_face = |patch: u32| -> u32 {
         let face = match surface.patch_owner(patch) {
@@ -62,7 +67,7 @@ pub(crate) fn input_face_hints(surface: &ApatchSurface, tess: &Tessellation) -> 
         };
         hull.face_map()[face]
     };
-    let mut hint = vec![u32::MAX; tess.positions.len()];
+    let mut hint = vec![u32::MAX; vertex_count];
     for (t, &patch) in tess.triangles.iter().zip(&tess.triangle_patch) {
         let f = input_face(patch);
         for &v in t {
