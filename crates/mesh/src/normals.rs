@@ -150,7 +150,12 @@ pub fn vertex_normals(mesh: &TriMesh, method: NormalMethod) -> Result<Vec<DVec3>
     let out = match method {
         NormalMethod::Area => area.iter().map(|&n| unit_or_zero(n)).collect(),
         NormalMethod::Angle => angle_sums(mesh).into_iter().map(unit_or_zero).collect(),
+        // In parallel (the same normal per vertex either way): a ring is walked and allocated
+        // per vertex, ~4.3 k instructions each, 40–50 ms of the bunny's 35 k vertices on one
+        // core (`callgrind`).
         NormalMethod::Loop => (0..mesh.vertex_count() as u32)
+            .into_par_iter()
+            .with_min_len(1024)
             .map(|v| {
                 // Non-manifold vertices and degenerate rings fall back to the area normal.
                 let l = loop_limit_normal(mesh, v)

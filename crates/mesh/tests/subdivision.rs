@@ -310,3 +310,50 @@ fn local_refinement_is_conforming() {
     assert!(validate(&r.mesh.to_polygon_mesh()).is_valid());
     assert!(loop_refine_edge(&m, 0, 15).is_err());
 }
+
+/// A whole Butterfly step puts at each edge exactly the point `butterfly_edge_point` gives for
+/// that edge alone (bit for bit), with every rule exercised: regular 8-point stencils,
+/// valence-3, -4, -5 and irregular-valence stencils at one or both ends, and boundary edges
+/// (the step reads each vertex's ring once; the single edge point builds its own).
+#[test]
+fn butterfly_step_puts_each_edge_point_where_the_edge_rule_does() {
+    let mut torus = algesurf_mesh::shapes::torus(9, 7, 1.0, 0.35);
+    let mut p = torus.positions().to_vec();
+    for (k, q) in p.iter_mut().enumerate() {
+        *q += 0.01
+            * DVec3::new(
+                (k as f64).sin(),
+                (2.0 * k as f64).cos(),
+                (3.0 * k as f64).sin(),
+            );
+    }
+    torus = TriMesh::new(p, torus.triangles().to_vec()).unwrap();
+    // A tetrahedron (valence 3) and an octahedron (valence 4) closed; a grid with boundary.
+    let tetra = TriMesh::new(
+        vec![
+            DVec3::X,
+            DVec3::Y,
+            DVec3::Z,
+            DVec3::new(0.3, 0.2, 0.1) - DVec3::ONE,
+        ],
+        vec![[0, 1, 2], [0, 3, 1], [1, 3, 2], [2, 3, 0]],
+    )
+    .unwrap();
+    let mut checked = 0;
+    for m in [icosphere(1), octahedron(), tetra, grid(4, 3), torus] {
+        let r = butterfly_subdivide(&m).unwrap();
+        for (v, origin) in r.vertex_origin.iter().enumerate() {
+            if let VertexOrigin::Edge([a, b]) = *origin {
+                let e = m.topology().find_edge(a, b).unwrap();
+                let alone = algesurf_mesh::subdivision::butterfly_edge_point(&m, e);
+                assert_eq!(
+                    r.mesh.positions()[v].to_array(),
+                    alone.to_array(),
+                    "{a}-{b}"
+                );
+                checked += 1;
+            }
+        }
+    }
+    assert!(checked > 300, "{checked} edge points");
+}
