@@ -9,6 +9,7 @@ use crate::triangulate::triangulate_polygon;
 use crate::validate::DEFAULT_DEGENERATE_AREA;
 use crate::{MeshError, PolygonMesh, Property, PropertyValues};
 use glam::DVec3;
+use rayon::prelude::*;
 use std::fmt;
 
 /// Default weld tolerance relative to the bounding-box diagonal.
@@ -497,14 +498,15 @@ pub fn repair(mesh: &PolygonMesh, options: &RepairOptions) -> Result<Repaired, M
                 report.detached_non_manifold_edges.push(topo.edge(e));
             }
         }
-        for v in 0..nv as u32 {
-            if topo.vertex_corners(v).len() < 2 {
-                continue;
-            }
-            // Counting is cheaper than building the fans, which only split vertices need.
-            if topo.fan_count(v) < 2 {
-                continue;
-            }
+        // The vertices with more than one fan, found in parallel (counting is cheaper than
+        // building the fans, which only split vertices need; still ~1.3 k instructions a
+        // vertex, 46 M on the bunny), then split in order of their ids as before.
+        let pinched: Vec<u32> = (0..nv as u32)
+            .into_par_iter()
+            .with_min_len(crate::parallel::SERIAL_BELOW)
+            .filter(|&v| topo.vertex_corners(v).len() >= 2 && topo.fan_count(v) >= 2)
+            .collect();
+        for v in pinched {
             let fans = topo.fans(v);
             report.split_vertices.push((v, fans.len() as u32));
             for fan in &fans[1..] {
