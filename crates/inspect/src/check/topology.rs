@@ -2,7 +2,7 @@
 //! positions, Euler characteristic equal to the input's.
 
 use super::{InputTopology, Location, Tessellated};
-use std::collections::{HashMap, HashSet};
+use rayon::prelude::*;
 
 /// Defects of the tessellation's topology.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -28,53 +28,93 @@ pub struct TopologyMeasure {
 }
 
 /// Counts the tessellation's edge and vertex defects and its Euler characteristic.
+///
+/// By sorting, in parallel: every directed edge as its undirected key with a direction bit,
+/// and every position's bits with its index. Hash maps of the directed edges and positions
+/// (SipHash, grown as filled) took ~9 s of the bunny's 21 s `algesurf check` at resolution 4
+/// (3.6 M triangles, 1.8 M vertices) on one core; the sorts take a fraction of a second. The
+/// counts are those of the definitions (tested against a direct count with hash maps).
 pub fn topology(t: &Tessellated, input: InputTopology) -> TopologyMeasure {
-    let mut directed: HashMap<(u32, u32), usize> = HashMap::new();
-    for tri in &t.triangles {
-        for k in 0..3 {
-            *directed.entry((tri[k], tri[(k + 1) % 3])).or_default() += 1;
-        }
-    }
-    let mut bad: Vec<(u32, u32)> = Vec::new();
-    let mut undirected = 0usize;
-    for (&(a, b), &n) in &directed {
-        let back = directed.get(&(b, a)).copied().unwrap_or(0);
-        if a < b || back == 0 {
-            undirected += 1;
-        }
-        let ok = n == 1 && back <= 1 && (back == 1 || !input.closed);
-        if !ok {
-            bad.push((a.min(b), a.max(b)));
-        }
-    }
-    bad.sort_unstable();
-    bad.dedup();
-    let mut seen: HashMap<[u64; 3], usize> = HashMap::new();
-    let mut duplicates = Vec::new();
-    for (i, p) in t.positions.iter().enumerate() {
-        if let Some(j) = seen.insert(p.to_array().map(f64::to_bits), i) {
+    // Directed edge a → b as ((min, max), a > b): the two directions of an edge sort next to
+    // each other, forward (a < b) first.
+    let mut keys: Vec<(u64, bool)> = t
+        .triangles
+        .par_iter()
+        .flat_map_iter(|tri| {
+            (0..3).map(move |k| {
+                let (a, b) = (tri[k], tri[(k + 1) % 3]);
+                ((u64::from(a.min(b)) << 32) | u64::from(a.max(b)), a > b)
+            })
+        })
+        .collect();
+    keys.par_sort_unstable();
+    // Per undirected edge {u < v}: `f` uses u → v, `g` uses v → u. A direction in use is
+    // right when it is used once and the other at most once (exactly once on a closed input).
+    let edges: Vec<(u64, bool)> = runs(&keys, |k| k.0)
+        .map(|run| {
+            let g = run.iter().filter(|k| k.1).count();
+            let f = run.len() - g;
+            let right = |n: usize, back: usize| n == 1 && back <= 1 && (back == 1 || !input.closed);
+            let bad = (f > 0 && !right(f, g)) || (g > 0 && !right(g, f));
+            (run[0].0, bad)
+        })
+        .collect();
+    let first_bad_edge = edges
+        .iter()
+        .find(|e| e.1)
+        .map(|&(k, _)| ((k >> 32) as u32, k as u32));
+    let bad_edges = edges.iter().filter(|e| e.1).count();
+    // Positions by their bits, then index: within a run of equal positions, each vertex after
+    // the first repeats the one before it.
+    let mut order: Vec<([u64; 3], u32)> = t
+        .positions
+        .par_iter()
+        .enumerate()
+        .map(|(i, p)| (p.to_array().map(f64::to_bits), i as u32))
+        .collect();
+    order.par_sort_unstable();
+    let mut duplicates: Vec<usize> = runs(&order, |x| x.0)
+        .flat_map(|run| run.windows(2))
+        .filter_map(|w| {
+            let (j, i) = (w[0].1 as usize, w[1].1 as usize);
             // Two interpolated vertices at one position are the input's own coincident
             // vertices (kept apart by repair), not a crack the tessellation opened.
             let from_input = i < t.interpolated_vertices && j < t.interpolated_vertices;
-            if !from_input {
-                duplicates.push(i);
-            }
-        }
-    }
+            (!from_input).then_some(i)
+        })
+        .collect();
+    duplicates.sort_unstable();
     let non_finite: Vec<usize> = (0..t.positions.len())
         .filter(|&i| !t.positions[i].is_finite())
         .collect();
-    let used: HashSet<u32> = t.triangles.iter().flatten().copied().collect();
+    // Sized by the largest id used, not the positions: a triangle naming a vertex that does
+    // not exist still counts (and is no panic here).
+    let ids = t
+        .triangles
+        .iter()
+        .flatten()
+        .max()
+        .map_or(0, |&v| v as usize + 1);
+    let mut used = vec![false; ids];
+    for &v in t.triangles.iter().flatten() {
+        used[v as usize] = true;
+    }
+    let used = used.iter().filter(|&&u| u).count();
     TopologyMeasure {
-        bad_edges: bad.len(),
-        first_bad_edge: bad.first().copied(),
+        bad_edges,
+        first_bad_edge,
         duplicate_positions: duplicates.len(),
         first_duplicate: duplicates.first().copied(),
         non_finite: non_finite.len(),
         first_non_finite: non_finite.first().copied(),
         input,
-        euler_characteristic: used.len() as i64 - undirected as i64 + t.triangles.len() as i64,
+        euler_characteristic: used as i64 - edges.len() as i64 + t.triangles.len() as i64,
     }
+}
+
+/// The maximal runs of a sorted slice whose elements have equal `key`.
+fn runs<T, K: PartialEq>(sorted: &[T], key: impl Fn(&T) -> K) -> impl Iterator<Item = &[T]> {
+    sorted.chunk_by(move |a, b| key(a) == key(b))
 }
 
 impl TopologyMeasure {
@@ -82,5 +122,98 @@ impl TopologyMeasure {
     pub fn bad_edge_location(&self) -> Option<Location> {
         self.first_bad_edge
             .map(|(a, b)| Location::TessellationEdge(a, b))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::DVec3;
+    use std::collections::{HashMap, HashSet};
+
+    /// The measure by its definitions, with hash maps: directed edges counted, each checked
+    /// against its reverse; positions seen before.
+    fn by_definition(t: &Tessellated, input: InputTopology) -> TopologyMeasure {
+        let mut directed: HashMap<(u32, u32), usize> = HashMap::new();
+        for tri in &t.triangles {
+            for k in 0..3 {
+                *directed.entry((tri[k], tri[(k + 1) % 3])).or_default() += 1;
+            }
+        }
+        let mut bad: Vec<(u32, u32)> = Vec::new();
+        let mut undirected = 0usize;
+        for (&(a, b), &n) in &directed {
+            let back = directed.get(&(b, a)).copied().unwrap_or(0);
+            if a < b || back == 0 {
+                undirected += 1;
+            }
+            if !(n == 1 && back <= 1 && (back == 1 || !input.closed)) {
+                bad.push((a.min(b), a.max(b)));
+            }
+        }
+        bad.sort_unstable();
+        bad.dedup();
+        let mut seen: HashMap<[u64; 3], usize> = HashMap::new();
+        let mut duplicates = Vec::new();
+        for (i, p) in t.positions.iter().enumerate() {
+            if let Some(j) = seen.insert(p.to_array().map(f64::to_bits), i)
+                && !(i < t.interpolated_vertices && j < t.interpolated_vertices)
+            {
+                duplicates.push(i);
+            }
+        }
+        let non_finite: Vec<usize> = (0..t.positions.len())
+            .filter(|&i| !t.positions[i].is_finite())
+            .collect();
+        let used: HashSet<u32> = t.triangles.iter().flatten().copied().collect();
+        TopologyMeasure {
+            bad_edges: bad.len(),
+            first_bad_edge: bad.first().copied(),
+            duplicate_positions: duplicates.len(),
+            first_duplicate: duplicates.first().copied(),
+            non_finite: non_finite.len(),
+            first_non_finite: non_finite.first().copied(),
+            input,
+            euler_characteristic: used.len() as i64 - undirected as i64 + t.triangles.len() as i64,
+        }
+    }
+
+    /// On random triangle soups over few vertices (edges used once, twice, in both or the
+    /// same direction, by many triangles), positions from a small set (repeats, a NaN, −0),
+    /// open and closed inputs, the sorted counts are the definitions'.
+    #[test]
+    fn sorted_counts_are_the_definitions() {
+        let mut s = 11u64;
+        let mut next = |n: u64| {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (s >> 33) % n
+        };
+        let values = [0.0, -0.0, 1.0, 0.5, f64::NAN];
+        for case in 0..200 {
+            let nv = 3 + next(12) as usize;
+            let positions = (0..nv)
+                .map(|_| DVec3::from_array([(); 3].map(|_| values[next(5) as usize])))
+                .collect();
+            let triangles = (0..next(30))
+                .map(|_| [(); 3].map(|_| next(nv as u64) as u32))
+                .filter(|t| t[0] != t[1] && t[1] != t[2] && t[0] != t[2])
+                .collect::<Vec<_>>();
+            let t = Tessellated {
+                positions,
+                triangle_patch: vec![0; triangles.len()],
+                triangles,
+                interpolated_vertices: next(nv as u64 + 1) as usize,
+                ..Tessellated::default()
+            };
+            for closed in [true, false] {
+                let input = InputTopology {
+                    closed,
+                    euler_characteristic: 2,
+                };
+                assert_eq!(topology(&t, input), by_definition(&t, input), "case {case}");
+            }
+        }
     }
 }
