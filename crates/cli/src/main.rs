@@ -12,6 +12,7 @@ mod info;
 mod memory;
 mod render;
 mod smooth;
+mod stage;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;

@@ -10,10 +10,10 @@ use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::atomic::{AtomicU32, Ordering};
-use std::sync::mpsc;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use crate::grid::{GridArgs, Resolution};
+use crate::stage::{Timings, measured};
 use algesurf_apatch::{
     ApatchError, ApatchSurface, FaceFunction, FreeParameterRule, GradientMagnitudes, PatchKind,
     SurfaceOptions, Tessellation,
@@ -189,78 +189,6 @@ pub struct SurfaceArgs {
 }
 
 type BoxError = Box<dyn std::error::Error>;
-
-/// Wall-clock seconds of each stage.
-#[derive(Debug, Default, Clone)]
-struct Timings {
-    read: f64,
-    repair: f64,
-    normals: f64,
-    hull: f64,
-    function: f64,
-    construction: f64,
-    tessellation: f64,
-    /// The check, which runs while the output is written (`check_and_write`).
-    check: f64,
-    /// Writing the output, while the check runs.
-    write: f64,
-    /// The check and the write together, from the start of both to the end of the later.
-    check_and_write: f64,
-    /// Page faults per stage.
-    faults: StageFaults,
-}
-
-/// Minor page faults of each stage ([`crate::memory`]), `None` where they cannot be read.
-#[derive(Debug, Default, Clone)]
-struct StageFaults {
-    read: Option<u64>,
-    repair: Option<u64>,
-    normals: Option<u64>,
-    construction: Option<u64>,
-    tessellation: Option<u64>,
-    /// The check and the write, which run at the same time (the counts are the process's).
-    check_and_write: Option<u64>,
-}
-
-/// [`stage`], also counting the minor page faults the process took during it.
-fn measured<T>(name: &str, progress: bool, f: impl FnOnce() -> T) -> (T, f64, Option<u64>) {
-    let before = crate::memory::minor_faults();
-    let (r, dt) = stage(name, progress, f);
-    let faults = before
-        .zip(crate::memory::minor_faults())
-        .map(|(a, b)| b.saturating_sub(a));
-    (r, dt, faults)
-}
-
-/// Runs `f`, timing it; with `progress`, shows a spinner named `name` on stderr once it has
-/// run for a second.
-pub(crate) fn stage<T>(name: &str, progress: bool, f: impl FnOnce() -> T) -> (T, f64) {
-    let start = Instant::now();
-    if !progress {
-        let r = f();
-        return (r, start.elapsed().as_secs_f64());
-    }
-    let (tx, rx) = mpsc::channel::<()>();
-    let r = std::thread::scope(|s| {
-        s.spawn(move || {
-            if rx.recv_timeout(Duration::from_secs(1)) != Err(mpsc::RecvTimeoutError::Timeout) {
-                return;
-            }
-            let bar = indicatif::ProgressBar::new_spinner().with_message(name.to_string());
-            bar.set_style(
-                indicatif::ProgressStyle::with_template("{spinner} {msg} {elapsed}")
-                    .unwrap_or_else(|_| indicatif::ProgressStyle::default_spinner()),
-            );
-            bar.enable_steady_tick(Duration::from_millis(100));
-            let _ = rx.recv(); // returns when the stage drops the sender
-            bar.finish_and_clear();
-        });
-        let r = f();
-        drop(tx);
-        r
-    });
-    (r, start.elapsed().as_secs_f64())
-}
 
 /// `path` made absolute and resolved as far as it exists (for comparing input and output).
 pub(crate) fn resolved(path: &Path) -> PathBuf {
