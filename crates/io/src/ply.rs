@@ -456,11 +456,11 @@ pub(crate) fn write(
     Ok(bytes)
 }
 
-/// Encodes `mesh` as PLY into `sink`, [`BLOCK`]s of elements at a time ([`write_elements`]). Written directly (header
-/// text, then the values) rather than through `ply_rs_bw`'s element maps, which allocate a
-/// hash map with string keys per element: that made writing a 1.3 M-triangle tessellation
-/// take seconds. The reader still parses with `ply_rs_bw`, and the round-trip tests check both
-/// agree.
+/// Encodes `mesh` as PLY into `sink`, [`BLOCK`]s of elements at a time ([`write_elements`]).
+/// Written directly (header text, then the values) rather than through `ply_rs_bw`'s element
+/// maps, which allocate a hash map with string keys per element: that made writing a
+/// 1.3 M-triangle tessellation take seconds. The reader still parses with `ply_rs_bw`, and the
+/// round-trip tests check both agree.
 pub(crate) fn write_to(
     mesh: &PolygonMesh,
     options: &WriteOptions,

@@ -650,10 +650,11 @@ impl Topology {
     ///
     /// A union–find over the edges in their order, then one pass over the faces that numbers
     /// each component when its lowest face comes up. A search from face to face gave the same
-    /// ids in the same few million instructions on the Stanford bunny but took 15–28 ms on one
-    /// core there (`perf`), its reads of the corner and edge tables scattered over the mesh in
-    /// the order the search reached the faces; the edges' order reads those tables
-    /// sequentially, and the sets (one `u32` a face) stay in cache.
+    /// ids in the same few million instructions on the Stanford bunny but took 8.7–35 ms on
+    /// one core there (2.6–5.9 ms now; five runs of both, alternately), its reads of the corner
+    /// and edge tables scattered over the mesh in the order the search reached the faces; the
+    /// edges' order reads those tables sequentially, and the sets (one `u32` a face) stay in
+    /// cache.
     ///
     /// ```
     /// use algesurf_mesh::Topology;

@@ -322,8 +322,11 @@ pub fn normal_agreement<S: PatchSurface + ?Sized>(
         .filter(|run| run[0].0 as usize >= t.interpolated_vertices)
         .filter_map(|run| {
             let mut patches: Vec<u32> = Vec::new();
+            // A triangle without a patch id (a shorter list) has none to compare, as before.
             for &(_, k) in run {
-                let patch = t.triangle_patch[k as usize];
+                let Some(&patch) = t.triangle_patch.get(k as usize) else {
+                    continue;
+                };
                 if !patches.contains(&patch) {
                     patches.push(patch);
                 }
