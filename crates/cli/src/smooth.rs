@@ -13,7 +13,7 @@ use std::sync::atomic::{AtomicU32, Ordering};
 use std::time::Instant;
 
 use crate::grid::{GridArgs, Resolution};
-use crate::stage::{Timings, measured};
+use crate::stage::{Timings, measured, stage};
 use algesurf_apatch::{
     ApatchError, ApatchSurface, FaceFunction, FreeParameterRule, GradientMagnitudes, PatchKind,
     SurfaceOptions, Tessellation,
@@ -544,21 +544,23 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
     // output mesh's positions, the tessellation's moved there.
     let ((checked, written), dt, faults) = measured("checking and writing", progress, || {
         std::thread::scope(|scope| {
+            // Each part timed on its own (no spinner: the pair has one).
             let writer = scope.spawn(|| {
-                let start = Instant::now();
-                let written = algesurf_io::write(&output, &out_mesh, &write_options);
-                (written, start.elapsed().as_secs_f64())
+                stage("writing", false, || {
+                    algesurf_io::write(&output, &out_mesh, &write_options)
+                })
             });
-            let start = Instant::now();
-            let checked = (
-                crate::deviation::max_deviation(
-                    &tri,
-                    &out_mesh.positions,
-                    &crate::deviation::input_face_hints(&surface, &tess, out_vertices),
-                ),
-                crate::continuity::sampled_continuity(&surface),
-            );
-            ((checked, start.elapsed().as_secs_f64()), writer.join())
+            let checked = stage("checking", false, || {
+                (
+                    crate::deviation::max_deviation(
+                        &tri,
+                        &out_mesh.positions,
+                        &crate::deviation::input_face_hints(&surface, &tess, out_vertices),
+                    ),
+                    crate::continuity::sampled_continuity(&surface),
+                )
+            });
+            (checked, writer.join())
         })
     });
     let (((deviation, diagonal), continuity), check_time) = checked;

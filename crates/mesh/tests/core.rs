@@ -8,17 +8,24 @@ use algesurf_mesh::{
 use glam::DVec3;
 use proptest::prelude::*;
 
-fn jitter(mesh: &TriMesh, seed: u64, amount: f64) -> TriMesh {
-    let mut m = mesh.clone();
+/// A deterministic generator, uniform in `[0, 1)` (a linear congruential one; these tests
+/// cannot use the crate's `test_rng`, which is compiled for its unit tests only).
+fn uniform(seed: u64) -> impl FnMut() -> f64 {
     let mut s = seed
         .wrapping_mul(6364136223846793005)
         .wrapping_add(1442695040888963407);
-    let mut rnd = || {
+    move || {
         s = s
             .wrapping_mul(6364136223846793005)
             .wrapping_add(1442695040888963407);
-        ((s >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
-    };
+        (s >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+fn jitter(mesh: &TriMesh, seed: u64, amount: f64) -> TriMesh {
+    let mut m = mesh.clone();
+    let mut u = uniform(seed);
+    let mut rnd = || u() * 2.0 - 1.0;
     for p in m.positions_mut() {
         *p += amount * DVec3::new(rnd(), rnd(), rnd());
     }
@@ -416,13 +423,8 @@ proptest! {
 /// that share an edge, with components numbered in the order of their lowest face.
 #[test]
 fn face_components_are_the_edge_connected_sets_numbered_by_lowest_face() {
-    let mut s = 5u64;
-    let mut next = |n: usize| {
-        s = s
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        ((s >> 33) % n as u64) as u32
-    };
+    let mut u = uniform(5);
+    let mut next = |n: usize| (u() * n as f64) as u32;
     for case in 0..40 {
         let nv = 6 + case % 30;
         let nf = 1 + (case * 7) % 60;

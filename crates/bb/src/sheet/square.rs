@@ -376,8 +376,6 @@ mod tests {
         }
     }
 
-    /// Against every ray of a fine grid: the certified bound is at least each ray's exact
-    /// `b_min^(1)` (the lift varying over the square as an edge's does).
     /// Random base and lift tensors: layer 0 in `[−low − 1, −low]` (rays start below the
     /// surface), layers 1–3 in `[−shift, 2 − shift]`, the lift's `c_2`, `c_3` positive.
     fn random_square(r: &mut Lcg, low: f64, shift: f64) -> ([Tensor3; 4], [Tensor3; 2]) {
@@ -418,6 +416,8 @@ mod tests {
         best
     }
 
+    /// Against every ray of a fine grid: the certified bound is at least each ray's exact
+    /// `b_min^(1)` (the lift varying over the square as an edge's does).
     #[test]
     fn certified_bound_is_above_every_sampled_ray() {
         let mut r = Lcg(11);

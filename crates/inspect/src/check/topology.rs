@@ -50,7 +50,8 @@ pub fn topology(t: &Tessellated, input: InputTopology) -> TopologyMeasure {
     keys.par_sort_unstable();
     // Per undirected edge {u < v}: `f` uses u → v, `g` uses v → u. A direction in use is
     // right when it is used once and the other at most once (exactly once on a closed input).
-    let edges: Vec<(u64, bool)> = runs(&keys, |k| k.0)
+    let edges: Vec<(u64, bool)> = keys
+        .chunk_by(|a, b| a.0 == b.0)
         .map(|run| {
             let g = run.iter().filter(|k| k.1).count();
             let f = run.len() - g;
@@ -73,7 +74,8 @@ pub fn topology(t: &Tessellated, input: InputTopology) -> TopologyMeasure {
         .map(|(i, p)| (p.to_array().map(f64::to_bits), i as u32))
         .collect();
     order.par_sort_unstable();
-    let mut duplicates: Vec<usize> = runs(&order, |x| x.0)
+    let duplicates: Vec<usize> = order
+        .chunk_by(|a, b| a.0 == b.0)
         .flat_map(|run| run.windows(2))
         .filter_map(|w| {
             let (j, i) = (w[0].1 as usize, w[1].1 as usize);
@@ -83,7 +85,6 @@ pub fn topology(t: &Tessellated, input: InputTopology) -> TopologyMeasure {
             (!from_input).then_some(i)
         })
         .collect();
-    duplicates.sort_unstable();
     let non_finite: Vec<usize> = (0..t.positions.len())
         .filter(|&i| !t.positions[i].is_finite())
         .collect();
@@ -104,17 +105,12 @@ pub fn topology(t: &Tessellated, input: InputTopology) -> TopologyMeasure {
         bad_edges,
         first_bad_edge,
         duplicate_positions: duplicates.len(),
-        first_duplicate: duplicates.first().copied(),
+        first_duplicate: duplicates.iter().min().copied(),
         non_finite: non_finite.len(),
         first_non_finite: non_finite.first().copied(),
         input,
         euler_characteristic: used as i64 - edges.len() as i64 + t.triangles.len() as i64,
     }
-}
-
-/// The maximal runs of a sorted slice whose elements have equal `key`.
-fn runs<T, K: PartialEq>(sorted: &[T], key: impl Fn(&T) -> K) -> impl Iterator<Item = &[T]> {
-    sorted.chunk_by(move |a, b| key(a) == key(b))
 }
 
 impl TopologyMeasure {
@@ -183,13 +179,8 @@ mod tests {
     /// open and closed inputs, the sorted counts are the definitions'.
     #[test]
     fn sorted_counts_are_the_definitions() {
-        let mut s = 11u64;
-        let mut next = |n: u64| {
-            s = s
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (s >> 33) % n
-        };
+        let mut rng = algesurf_mesh::test_rng::Lcg(11);
+        let mut next = |n: u64| (rng.next() * n as f64) as u64;
         let values = [0.0, -0.0, 1.0, 0.5, f64::NAN];
         for case in 0..200 {
             let nv = 3 + next(12) as usize;
