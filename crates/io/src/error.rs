@@ -125,6 +125,13 @@ impl Ctx<'_> {
             what: what.into(),
         }
     }
+    /// An I/O failure on this file (a streamed writer's sink).
+    pub fn io(&self, source: std::io::Error) -> IoError {
+        IoError::Io {
+            path: self.path.to_path_buf(),
+            source,
+        }
+    }
     pub fn invalid(&self, what: impl Into<String>) -> IoError {
         IoError::InvalidMesh {
             path: self.path.to_path_buf(),

@@ -1,15 +1,13 @@
-//! glTF 2.0 and GLB: documents parsed with the `gltf` crate, accessor data read by hand with
-//! checked bounds (the crate's own readers may panic on malformed accessors), GLB written
-//! through `gltf-json` types and `gltf::binary::Glb` (buffer packing by hand).
+//! Reading glTF 2.0 and GLB: documents parsed with the `gltf` crate, accessor data read by
+//! hand with checked bounds (the crate's own readers may panic on malformed accessors).
 //!
 //! Reading walks the default scene (or the first, or every root node when there is no scene),
 //! applies node transforms to positions and normals (flipping the winding of mirrored nodes),
 //! and concatenates the triangle primitives (`TRIANGLES`, `TRIANGLE_STRIP`, `TRIANGLE_FAN`) in
 //! that order. The custom attribute `_PATCH_ID` becomes the vertex property
-//! [`PATCH_ID`](crate::PATCH_ID).
+//! [`PATCH_ID`](crate::PATCH_ID). Writing is `crate::gltf_write`'s.
 
 use std::borrow::Cow;
-use std::collections::BTreeMap;
 use std::path::Path;
 
 use algesurf_mesh::{PolygonMesh, Property, PropertyValues};
@@ -18,9 +16,11 @@ use gltf::accessor::{DataType, Dimensions};
 use gltf::mesh::Mode;
 
 use crate::error::{Ctx, Location};
-use crate::{IoError, PATCH_ID, WriteOptions, fan_triangles};
+use crate::{IoError, PATCH_ID};
 
-const PATCH_ATTRIBUTE: &str = "PATCH_ID"; // `_PATCH_ID` without the leading underscore
+/// The glTF name of the [`PATCH_ID`] vertex attribute: `_PATCH_ID` without the leading
+/// underscore, which the `gltf` crate's `Semantic::Extras` adds.
+pub(crate) const PATCH_ATTRIBUTE: &str = "PATCH_ID";
 
 fn base64_decode(s: &str) -> Option<Vec<u8>> {
     let mut out = Vec::with_capacity(s.len() / 4 * 3);
@@ -45,27 +45,6 @@ fn base64_decode(s: &str) -> Option<Vec<u8>> {
         }
     }
     Some(out)
-}
-
-fn base64_encode(data: &[u8]) -> String {
-    const T: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    let mut out = String::with_capacity(data.len().div_ceil(3) * 4);
-    for chunk in data.chunks(3) {
-        let b = [
-            chunk[0],
-            *chunk.get(1).unwrap_or(&0),
-            *chunk.get(2).unwrap_or(&0),
-        ];
-        let n = (u32::from(b[0]) << 16) | (u32::from(b[1]) << 8) | u32::from(b[2]);
-        for k in 0..4 {
-            if k <= chunk.len() {
-                out.push(T[((n >> (18 - 6 * k)) & 63) as usize] as char);
-            } else {
-                out.push('=');
-            }
-        }
-    }
-    out
 }
 
 /// Reads accessor `acc` as `f64` components (`dims` per element), with bounds checked.
@@ -436,218 +415,4 @@ pub(crate) fn read(
         });
     }
     Ok(mesh)
-}
-
-/// Appends `data` to `bin` as a new buffer view (4-byte aligned) and returns its index.
-fn push_view(
-    root: &mut gltf_json::Root,
-    bin: &mut Vec<u8>,
-    data: &[u8],
-    target: gltf_json::buffer::Target,
-) -> gltf_json::Index<gltf_json::buffer::View> {
-    while !bin.len().is_multiple_of(4) {
-        bin.push(0);
-    }
-    let offset = bin.len();
-    bin.extend_from_slice(data);
-    root.push(gltf_json::buffer::View {
-        buffer: gltf_json::Index::new(0),
-        byte_length: data.len().into(),
-        byte_offset: Some(offset.into()),
-        byte_stride: None,
-        extensions: None,
-        extras: Default::default(),
-        name: None,
-        target: Some(gltf_json::validation::Checked::Valid(target)),
-    })
-}
-
-fn push_accessor(
-    root: &mut gltf_json::Root,
-    view: gltf_json::Index<gltf_json::buffer::View>,
-    count: usize,
-    component: gltf_json::accessor::ComponentType,
-    type_: gltf_json::accessor::Type,
-    min_max: Option<(Vec<f32>, Vec<f32>)>,
-) -> gltf_json::Index<gltf_json::Accessor> {
-    use gltf_json::validation::Checked::Valid;
-    let (min, max) = match min_max {
-        Some((lo, hi)) => (Some(lo.into()), Some(hi.into())),
-        None => (None, None),
-    };
-    root.push(gltf_json::Accessor {
-        buffer_view: Some(view),
-        byte_offset: None,
-        count: count.into(),
-        component_type: Valid(gltf_json::accessor::GenericComponentType(component)),
-        extensions: None,
-        extras: Default::default(),
-        type_: Valid(type_),
-        min,
-        max,
-        name: None,
-        normalized: false,
-        sparse: None,
-    })
-}
-
-pub(crate) fn write(
-    mesh: &PolygonMesh,
-    options: &WriteOptions,
-    ctx: Ctx<'_>,
-) -> Result<Vec<u8>, IoError> {
-    use gltf_json::accessor::{ComponentType, Type};
-    use gltf_json::buffer::Target;
-    use gltf_json::validation::Checked::Valid;
-
-    let tris = fan_triangles(mesh);
-    let mut root = gltf_json::Root::default();
-    root.asset.generator = Some("algesurf".into());
-    let mut bin: Vec<u8> = Vec::new();
-    let mut attributes = BTreeMap::new();
-
-    let n = mesh.vertex_count();
-    let mut lo = [f32::INFINITY; 3];
-    let mut hi = [f32::NEG_INFINITY; 3];
-    let mut data = Vec::with_capacity(n * 12);
-    for p in &mesh.positions {
-        let q = [p.x as f32, p.y as f32, p.z as f32];
-        if q.iter().any(|x| !x.is_finite()) {
-            return Err(ctx.invalid("non-finite vertex position"));
-        }
-        for k in 0..3 {
-            lo[k] = lo[k].min(q[k]);
-            hi[k] = hi[k].max(q[k]);
-            data.extend_from_slice(&q[k].to_le_bytes());
-        }
-    }
-    if n > 0 {
-        let view = push_view(&mut root, &mut bin, &data, Target::ArrayBuffer);
-        let acc = push_accessor(
-            &mut root,
-            view,
-            n,
-            ComponentType::F32,
-            Type::Vec3,
-            Some((lo.to_vec(), hi.to_vec())),
-        );
-        attributes.insert(Valid(gltf::Semantic::Positions), acc);
-    }
-    if let Some(ns) = mesh.normals.as_ref().filter(|_| options.normals && n > 0) {
-        // glTF normals must be unit length: zero or non-finite normals become +Z.
-        let mut data = Vec::with_capacity(n * 12);
-        for v in ns {
-            let u = v.normalize_or_zero();
-            let u = if u == DVec3::ZERO { DVec3::Z } else { u };
-            for c in [u.x, u.y, u.z] {
-                data.extend_from_slice(&(c as f32).to_le_bytes());
-            }
-        }
-        let view = push_view(&mut root, &mut bin, &data, Target::ArrayBuffer);
-        let acc = push_accessor(&mut root, view, n, ComponentType::F32, Type::Vec3, None);
-        attributes.insert(Valid(gltf::Semantic::Normals), acc);
-    }
-    if let Some(p) = mesh.vertex_properties.iter().find(|p| p.name == PATCH_ID)
-        && n > 0
-    {
-        let ids: Vec<f64> = match &p.values {
-            PropertyValues::Int(v) => v.iter().map(|&x| x as f64).collect(),
-            PropertyValues::Float(v) => v.clone(),
-        };
-        // FLOAT: vertex attributes must be 4-byte aligned per element, and UNSIGNED_INT is
-        // for indices only; f32 holds integer ids exactly up to 2^24.
-        if let Some(bad) = ids.iter().find(|&&x| (x as f32) as f64 != x) {
-            return Err(ctx.invalid(format!(
-                "patch id {bad} is not exactly representable as the f32 of glTF's _PATCH_ID"
-            )));
-        }
-        let data: Vec<u8> = ids.iter().flat_map(|&x| (x as f32).to_le_bytes()).collect();
-        let ct = ComponentType::F32;
-        let view = push_view(&mut root, &mut bin, &data, Target::ArrayBuffer);
-        let acc = push_accessor(&mut root, view, n, ct, Type::Scalar, None);
-        attributes.insert(Valid(gltf::Semantic::Extras(PATCH_ATTRIBUTE.into())), acc);
-    }
-    let mut primitives = Vec::new();
-    if !tris.is_empty() {
-        let data: Vec<u8> = tris
-            .iter()
-            .flatten()
-            .flat_map(|v| v.to_le_bytes())
-            .collect();
-        let view = push_view(&mut root, &mut bin, &data, Target::ElementArrayBuffer);
-        let indices = push_accessor(
-            &mut root,
-            view,
-            tris.len() * 3,
-            ComponentType::U32,
-            Type::Scalar,
-            None,
-        );
-        primitives.push(gltf_json::mesh::Primitive {
-            attributes,
-            extensions: None,
-            extras: Default::default(),
-            indices: Some(indices),
-            material: None,
-            mode: Valid(Mode::Triangles),
-            targets: None,
-        });
-    }
-    while !bin.len().is_multiple_of(4) {
-        bin.push(0);
-    }
-    let mut nodes = Vec::new();
-    if !primitives.is_empty() {
-        let mesh_index = root.push(gltf_json::Mesh {
-            extensions: None,
-            extras: Default::default(),
-            name: None,
-            primitives,
-            weights: None,
-        });
-        nodes.push(root.push(gltf_json::Node {
-            mesh: Some(mesh_index),
-            ..Default::default()
-        }));
-    }
-    if !nodes.is_empty() {
-        let scene = root.push(gltf_json::Scene {
-            extensions: None,
-            extras: Default::default(),
-            name: None,
-            nodes,
-        });
-        root.scene = Some(scene);
-    }
-    let glb = ctx.format == crate::Format::Glb;
-    if !bin.is_empty() {
-        root.push(gltf_json::Buffer {
-            byte_length: bin.len().into(),
-            extensions: None,
-            extras: Default::default(),
-            name: None,
-            uri: (!glb).then(|| {
-                format!(
-                    "data:application/octet-stream;base64,{}",
-                    base64_encode(&bin)
-                )
-            }),
-        });
-    }
-    let json = gltf_json::serialize::to_vec(&root)
-        .map_err(|e| ctx.invalid(format!("JSON serialisation failed: {e}")))?;
-    if !glb {
-        return Ok(json);
-    }
-    let glb = gltf::binary::Glb {
-        header: gltf::binary::Header {
-            magic: *b"glTF",
-            version: 2,
-            length: 0, // computed by to_vec
-        },
-        json: Cow::Owned(json),
-        bin: (!bin.is_empty()).then_some(Cow::Owned(bin)),
-    };
-    glb.to_vec()
-        .map_err(|e| ctx.invalid(format!("GLB packing failed: {e}")))
 }

@@ -32,6 +32,9 @@
 //!   and glTF store `f32` by definition of the format.
 //! * Writers write a temporary file in the target directory and rename it over the target, so a
 //!   failed write never clobbers an existing file.
+//! * PLY and GLB files are streamed to disk: encoded in blocks of elements in parallel and
+//!   written in order, without a copy of the whole file in memory (a tessellation's file is
+//!   tens of megabytes, and the fresh pages of such a copy cost more than the encoding).
 //!
 //! Hand-written parts (no maintained crate does them, or not in the way we need): the OBJ
 //! reader (tobj renumbers vertices per group and drops unused ones; it is used as a test oracle
@@ -40,9 +43,11 @@
 #![warn(missing_docs)]
 
 mod atomic;
+mod blocks;
 mod error;
 mod format;
 mod gltf_io;
+mod gltf_write;
 mod number;
 mod obj;
 mod off;
@@ -162,14 +167,18 @@ pub fn write_as(
     options: &WriteOptions,
 ) -> Result<(), IoError> {
     let path = path.as_ref();
-    if format == Format::Ply {
-        // Streamed to the file: a tessellation's PLY is tens of MB.
-        let ctx = Ctx { path, format };
-        check_writable(mesh, ctx)?;
-        return atomic::write_atomic_with(path, |file| ply::write_to(mesh, options, ctx, file));
-    }
-    let bytes = write_impl(mesh, format, options, path)?;
-    atomic::write_atomic(path, &bytes)
+    let ctx = Ctx { path, format };
+    // PLY and glTF are streamed to the file: a tessellation's PLY or GLB is tens of MB.
+    let stream = match format {
+        Format::Ply => ply::write_to,
+        Format::Gltf | Format::Glb => gltf_write::write_to,
+        Format::Obj | Format::Stl | Format::Off => {
+            let bytes = write_impl(mesh, format, options, path)?;
+            return atomic::write_atomic(path, &bytes);
+        }
+    };
+    check_writable(mesh, ctx)?;
+    atomic::write_atomic_with(path, |file| stream(mesh, options, ctx, file))
 }
 
 /// Encodes a mesh in memory in the given format.
@@ -194,7 +203,11 @@ fn write_impl(
         Format::Ply => ply::write(mesh, options, ctx),
         Format::Stl => Ok(stl::write(mesh, options)),
         Format::Off => Ok(off::write(mesh, options)),
-        Format::Gltf | Format::Glb => gltf_io::write(mesh, options, ctx),
+        Format::Gltf | Format::Glb => {
+            let mut bytes = Vec::new();
+            gltf_write::write_to(mesh, options, ctx, &mut bytes)?;
+            Ok(bytes)
+        }
     }
 }
 

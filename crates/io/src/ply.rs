@@ -16,6 +16,7 @@ use ply_rs_bw::ply::{
     self, DefaultElement, ElementDef, Encoding, Header, PropertyType, ScalarType,
 };
 
+use crate::blocks::write_blocks;
 use crate::error::{Ctx, Location};
 use crate::{IoError, WriteOptions};
 
@@ -331,58 +332,28 @@ struct Encoder {
     first: bool,
 }
 
-/// Elements encoded as one piece of work ([`write_elements`]): 16 Ki vertices of the
-/// `smooth` command's output (doubles, normals, a patch id) are 850 KB, faces 340 KB.
-const BLOCK: usize = 1 << 14;
-
-/// Blocks encoded at once per thread before they are written out, in order: enough to keep
-/// both threads busy, little enough (~7 MB on two threads) to stay out of fresh pages. The
-/// whole file was built in memory once: on the bunny's 1.46 M-triangle tessellation a 63 MB
-/// buffer whose fresh pages took more of the `smooth` command's write stage than the encoding.
-const BLOCKS_PER_THREAD: usize = 4;
-
 /// Encodes elements `0..n` by `encode` (one element per call) and writes them to `sink` in
-/// order, [`BLOCK`]s of them encoded in parallel: the same bytes as one loop over the
-/// elements (each element ends a line in ascii, so blocks join without separators). Encoding
-/// was all of the write stage's own work on one core (~80 ms of the bunny's 88 MB PLY, the
-/// rest the kernel's copy into the page cache).
+/// order, [`BLOCK`](crate::blocks::BLOCK)s of them encoded in parallel ([`write_blocks`]):
+/// the same bytes as one loop over the elements (each element ends a line in ascii, so blocks
+/// join without separators). Encoding was all of the write stage's own work on one core
+/// (~80 ms of the bunny's 88 MB PLY, the rest the kernel's copy into the page cache).
 fn write_elements(
     n: usize,
     encoding: Encoding,
     sink: &mut dyn std::io::Write,
     encode: &(dyn Fn(usize, &mut Encoder) + Sync),
 ) -> std::io::Result<()> {
-    use rayon::prelude::*;
-    let blocks = n.div_ceil(BLOCK);
-    let batch = (BLOCKS_PER_THREAD * rayon::current_num_threads()).max(1);
-    let mut buffers: Vec<Vec<u8>> = vec![Vec::new(); batch.min(blocks)];
-    let fill = |b: usize, buffer: &mut Vec<u8>| {
-        buffer.clear();
+    write_blocks(n, sink, &|range, buffer| {
         let mut e = Encoder {
             out: std::mem::take(buffer),
             encoding,
             first: true,
         };
-        for i in b * BLOCK..((b + 1) * BLOCK).min(n) {
+        for i in range {
             encode(i, &mut e);
         }
         *buffer = e.out;
-    };
-    for first in (0..blocks).step_by(batch) {
-        let count = batch.min(blocks - first);
-        if count == 1 {
-            fill(first, &mut buffers[0]);
-        } else {
-            buffers[..count]
-                .par_iter_mut()
-                .enumerate()
-                .for_each(|(k, buffer)| fill(first + k, buffer));
-        }
-        for buffer in &buffers[..count] {
-            sink.write_all(buffer)?;
-        }
-    }
-    Ok(())
+    })
 }
 
 impl Encoder {
@@ -456,7 +427,8 @@ pub(crate) fn write(
     Ok(bytes)
 }
 
-/// Encodes `mesh` as PLY into `sink`, [`BLOCK`]s of elements at a time ([`write_elements`]).
+/// Encodes `mesh` as PLY into `sink`, [`BLOCK`](crate::blocks::BLOCK)s of elements at a time
+/// ([`write_elements`]).
 /// Written directly (header text, then the values) rather than through `ply_rs_bw`'s element
 /// maps, which allocate a hash map with string keys per element: that made writing a
 /// 1.3 M-triangle tessellation take seconds. The reader still parses with `ply_rs_bw`, and the
@@ -527,10 +499,7 @@ pub(crate) fn write_to(
     }
     h.push_str("end_header\n");
 
-    let io_err = |source| IoError::Io {
-        path: ctx.path.to_path_buf(),
-        source,
-    };
+    let io_err = |source| ctx.io(source);
     sink.write_all(h.as_bytes()).map_err(io_err)?;
     let encode_vertex = |i: usize, e: &mut Encoder| {
         let p = mesh.positions[i];

@@ -132,34 +132,28 @@ fn stl_keeps_triangles_in_f32() {
     }
 }
 
+/// `back`, read from a glTF or GLB of `mesh`, is `mesh`'s fans with every position as its
+/// `f32`, every normal (unit in `mesh`) to `f32` rounding and every patch id.
+fn assert_reads_back_as_fans(back: &PolygonMesh, mesh: &PolygonMesh) {
+    assert!(back.faces().eq(fan(mesh).faces()), "the fans, in order");
+    assert_eq!(back.vertex_count(), mesh.vertex_count());
+    for (a, b) in back.positions.iter().zip(&mesh.positions) {
+        assert_eq!(*a, b.as_vec3().as_dvec3());
+    }
+    let normals = back.normals.as_ref().unwrap().iter();
+    for (a, b) in normals.zip(mesh.normals.as_ref().unwrap()) {
+        assert!((*a - *b).length() < 1e-6);
+    }
+    let ids = back.vertex_properties.iter().find(|p| p.name == PATCH_ID);
+    assert_eq!(ids.unwrap().values, mesh.vertex_properties[0].values);
+}
+
 #[test]
 fn glb_and_gltf_keep_triangles_normals_and_patch_ids() {
     let mesh = grid(4, 3, true);
     for format in [Format::Glb, Format::Gltf] {
         let back = rt(&mesh, format, WriteOptions::default());
-        let want = fan(&mesh);
-        assert_eq!(
-            back.faces().collect::<Vec<_>>(),
-            want.faces().collect::<Vec<_>>()
-        );
-        for (a, b) in back.positions.iter().zip(&mesh.positions) {
-            assert_eq!(*a, b.as_vec3().as_dvec3());
-        }
-        for (a, b) in back
-            .normals
-            .as_ref()
-            .unwrap()
-            .iter()
-            .zip(mesh.normals.as_ref().unwrap())
-        {
-            assert!((*a - *b).length() < 1e-6);
-        }
-        let ids = back
-            .vertex_properties
-            .iter()
-            .find(|p| p.name == PATCH_ID)
-            .unwrap();
-        assert_eq!(ids.values, mesh.vertex_properties[0].values);
+        assert_reads_back_as_fans(&back, &mesh);
     }
     // Without patch ids or normals.
     let back = rt(&tetrahedron(), Format::Glb, WriteOptions::default());
@@ -232,14 +226,53 @@ fn ply_streamed_to_disk_is_the_in_memory_encoding() {
     });
     let err = write(&path, &bad, &WriteOptions::default()).unwrap_err();
     assert!(err.to_string().contains("two words"), "{err}");
-    assert!(std::fs::read(&path).unwrap() == before);
-    let leftovers: Vec<_> = std::fs::read_dir(&dir)
+    assert_kept_and_cleaned(&dir, &path, &before);
+}
+
+/// A GLB is streamed to the file in blocks (its binary chunk after a JSON chunk made from the
+/// lengths alone): on disk it is the bytes `write_bytes` gives, for a polygon mesh (written
+/// as fans) and a triangle mesh several blocks long; the header's length is the file's, and
+/// it reads back as the fans with every position, normal and patch id. A position that `f32`
+/// cannot hold is reported with its vertex before anything is written, and the old file is
+/// left as it was with no temporary file behind.
+#[test]
+fn glb_streamed_to_disk_reads_back_as_the_mesh() {
+    let dir = std::env::temp_dir().join(format!("algesurf-io-glb-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("big.glb");
+    let polygons = grid(400, 300, true);
+    for mesh in [fan(&polygons), polygons] {
+        let bytes = write_bytes(&mesh, Format::Glb, &WriteOptions::default()).unwrap();
+        assert!(
+            bytes.len() > 3 << 20,
+            "{} bytes: several blocks",
+            bytes.len()
+        );
+        let total = u32::from_le_bytes(bytes[8..12].try_into().unwrap());
+        assert_eq!(total as usize, bytes.len());
+        write(&path, &mesh, &WriteOptions::default()).unwrap();
+        assert!(std::fs::read(&path).unwrap() == bytes);
+        assert_reads_back_as_fans(&read(&path).unwrap(), &mesh);
+    }
+    let before = std::fs::read(&path).unwrap();
+    let mut bad = grid(40, 30, false);
+    bad.positions[77].y = 1e39; // finite in f64, infinite in f32
+    let err = write(&path, &bad, &WriteOptions::default()).unwrap_err();
+    assert!(err.to_string().contains("vertex 77"), "{err}");
+    assert_kept_and_cleaned(&dir, &path, &before);
+}
+
+/// After a failed write: `path` still holds `before`, no temporary file is left in `dir`;
+/// then `dir` is removed.
+fn assert_kept_and_cleaned(dir: &std::path::Path, path: &std::path::Path, before: &[u8]) {
+    assert!(std::fs::read(path).unwrap() == before);
+    let leftovers: Vec<_> = std::fs::read_dir(dir)
         .unwrap()
         .filter_map(|e| e.ok())
         .filter(|e| e.file_name().to_string_lossy().ends_with(".tmp"))
         .collect();
     assert!(leftovers.is_empty(), "{leftovers:?}");
-    std::fs::remove_dir_all(&dir).unwrap();
+    std::fs::remove_dir_all(dir).unwrap();
 }
 
 fn fan_or_not(mesh: &PolygonMesh, f: Format) -> PolygonMesh {
