@@ -1,9 +1,9 @@
 //! The check stage's deviation figure: how far the smooth surface's points lie from the input
 //! mesh.
 
-use algesurf_apatch::{ApatchSurface, Owner, Tessellation};
+use algesurf_apatch::{ApatchSurface, Owner};
 use algesurf_mesh::primitives::closest_point_on_triangle;
-use algesurf_mesh::{TriMesh, TriangleBvh};
+use algesurf_mesh::{PolygonMesh, TriMesh, TriangleBvh};
 use glam::DVec3;
 use rayon::prelude::*;
 
@@ -50,14 +50,14 @@ pub(crate) fn max_deviation(input: &TriMesh, points: &[DVec3], hint: &[u32]) -> 
     (d, diag)
 }
 
-/// Per tessellation vertex, an input face near it ([`max_deviation`]'s hint): the input face
-/// of the hull face its last triangle's patch belongs to (an edge patch's first face);
-/// `u32::MAX` for a vertex in no triangle. `vertex_count`: the tessellation's, whose positions
-/// may have moved into the output mesh.
+/// Per vertex of the output mesh `out` (the tessellation's triangles, moved there, with
+/// `triangle_patch` their patches), an input face near it ([`max_deviation`]'s hint): the
+/// input face of the hull face its last triangle's patch belongs to (an edge patch's first
+/// face); `u32::MAX` for a vertex in no triangle.
 pub(crate) fn input_face_hints(
     surface: &ApatchSurface,
-    tess: &Tessellation,
-    vertex_count: usize,
+    out: &PolygonMesh,
+    triangle_patch: &[u32],
 ) -> Vec<u32> {
     let hull = surface.hull();
     let input_face = |patch: u32| -> u32 {
@@ -67,8 +67,8 @@ pub(crate) fn input_face_hints(
         };
         hull.face_map()[face]
     };
-    let mut hint = vec![u32::MAX; vertex_count];
-    for (t, &patch) in tess.triangles.iter().zip(&tess.triangle_patch) {
+    let mut hint = vec![u32::MAX; out.vertex_count()];
+    for (t, &patch) in out.faces().zip(triangle_patch) {
         let f = input_face(patch);
         for &v in t {
             hint[v as usize] = f;

@@ -87,6 +87,26 @@ impl PolygonMesh {
         }
     }
 
+    /// [`PolygonMesh::from_triangles`] taking the triangles by value: their memory becomes
+    /// the mesh's corner list, with no copy (a tessellation's triangle list is tens of MB,
+    /// and a copy's fresh pages cost ~2.4 µs per 4 KiB page on the development machine).
+    ///
+    /// ```
+    /// use algesurf_mesh::PolygonMesh;
+    /// use glam::DVec3;
+    /// let tris = vec![[0, 1, 2], [2, 1, 3]];
+    /// let m = PolygonMesh::from_owned_triangles(vec![DVec3::ZERO; 4], tris.clone());
+    /// assert_eq!(m, PolygonMesh::from_triangles(vec![DVec3::ZERO; 4], &tris));
+    /// ```
+    pub fn from_owned_triangles(positions: Vec<DVec3>, triangles: Vec<[u32; 3]>) -> Self {
+        PolygonMesh {
+            positions,
+            offsets: (0..=triangles.len() as u32).map(|k| 3 * k).collect(),
+            indices: triangles.into_flattened(),
+            ..Default::default()
+        }
+    }
+
     /// Appends a polygon (any number of corners).
     pub fn push_face(&mut self, corners: &[u32]) {
         if self.offsets.is_empty() {
