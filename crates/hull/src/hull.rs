@@ -381,7 +381,7 @@ impl Inputs<'_> {
 }
 
 /// A record to fill a failed slot of [`collect_first_error`] with (never returned).
-fn filler_edge() -> HullEdge {
+pub(crate) fn filler_edge() -> HullEdge {
     HullEdge {
         vertices: [0, 0],
         convexity: Convexity::ZeroConvex,
@@ -396,7 +396,7 @@ fn filler_edge() -> HullEdge {
 }
 
 /// A record to fill a failed slot of [`collect_first_error_into`] with (never returned).
-fn filler_face() -> HullFace {
+pub(crate) fn filler_face() -> HullFace {
     HullFace {
         vertices: [0; 3],
         source_face: 0,

@@ -20,10 +20,11 @@
 use super::intersect::{TetIndex, TetKey};
 use crate::classify::Side;
 use crate::crossing::CrossingZone;
-use crate::hull::{HullEdge, HullFace, Inputs, longest_edge};
+use crate::hull::{HullEdge, HullFace, Inputs, filler_edge, filler_face, longest_edge};
 use crate::refine::{RefineState, key};
 use crate::{HullError, HullOptions};
 use algesurf_mesh::fasthash::FastMap;
+use algesurf_mesh::parallel::collect_first_error;
 use glam::DVec3;
 use rayon::prelude::*;
 
@@ -210,16 +211,21 @@ struct Current {
     /// The first round's edges and their keys (the topology's order, ascending).
     first_edges: Vec<HullEdge>,
     first_keys: Vec<[u32; 2]>,
-    /// Edges made (`Some`) or removed by a split (`None`) since the first round, by key.
-    /// (A fast hash: the lookups of every candidate pair's edge were 9 % of Suzanne's hull.)
-    changed: FastMap<[u32; 2], Option<HullEdge>>,
+    /// Edges made (`Some`: their place in `made`) or removed by a split (`None`) since the
+    /// first round, by key. (A fast hash: the lookups of every candidate pair's edge were 9 %
+    /// of Suzanne's hull. Indices, not the 600-byte records: growing the map moved them all,
+    /// 8 % of the main thread's samples over Suzanne's rounds.)
+    changed: FastMap<[u32; 2], Option<u32>>,
+    /// The edges made since the first round, in the order made (a remade edge's older record
+    /// stays, unnamed).
+    made: Vec<HullEdge>,
 }
 
 impl Current {
     /// The current edge with key `k`: made since the first round, or the first round's.
     fn edge(&self, k: [u32; 2]) -> Option<&HullEdge> {
         match self.changed.get(&k) {
-            Some(made) => made.as_ref(),
+            Some(made) => made.map(|i| &self.made[i as usize]),
             None => {
                 let id = self.first_keys.binary_search(&k).ok()?;
                 Some(&self.first_edges[id])
@@ -284,6 +290,7 @@ impl Rounds {
                 first_edges,
                 first_keys,
                 changed: FastMap::default(),
+                made: Vec::new(),
             },
             index,
         }
@@ -335,43 +342,61 @@ impl Rounds {
             .collect();
         keys.sort_unstable();
         keys.dedup();
-        let mut fresh_edges = Vec::with_capacity(keys.len());
-        for &[a, b] in &keys {
-            let faces = state.edge_faces(a, b).unwrap_or_default();
-            if faces.len() > 2 {
-                return Err(HullError::NonManifoldEdge(a, b));
-            }
-            // A changed face's side is an edge of the edited mesh: never empty.
-            let Some(&face_k) = faces.first() else {
-                return Err(algesurf_mesh::MeshError::NoSuchEdge(a, b).into());
-            };
-            let (i, j, k) = third(triangles[face_k as usize], [a, b]);
-            let other = match faces.get(1) {
-                Some(&g) => {
-                    let (x, y, l) = third(triangles[g as usize], [a, b]);
-                    if (x, y) != (j, i) {
-                        return Err(HullError::InconsistentOrientation {
-                            edge: [i, j],
-                            faces: [state.face_map[face_k as usize], state.face_map[g as usize]],
-                        });
-                    }
-                    Some((g, l))
+        // Edges, faces and edge tetrahedra each in parallel, with the first error in the
+        // order a loop meets it (the main thread built them one by one while the other core
+        // waited: with the apexes' searches, a fifth of Suzanne's 17 rounds).
+        let state: &RefineState = state;
+        let mut fresh_edges = collect_first_error(
+            keys.len(),
+            |n| {
+                let [a, b] = keys[n];
+                let faces = state.edge_faces(a, b).unwrap_or_default();
+                if faces.len() > 2 {
+                    return Err(HullError::NonManifoldEdge(a, b));
                 }
-                None => None,
-            };
-            fresh_edges.push(inputs.edge([i, j], face_k, k, other));
-        }
+                // A changed face's side is an edge of the edited mesh: never empty.
+                let Some(&face_k) = faces.first() else {
+                    return Err(algesurf_mesh::MeshError::NoSuchEdge(a, b).into());
+                };
+                let (i, j, k) = third(triangles[face_k as usize], [a, b]);
+                let other = match faces.get(1) {
+                    Some(&g) => {
+                        let (x, y, l) = third(triangles[g as usize], [a, b]);
+                        if (x, y) != (j, i) {
+                            return Err(HullError::InconsistentOrientation {
+                                edge: [i, j],
+                                faces: [
+                                    state.face_map[face_k as usize],
+                                    state.face_map[g as usize],
+                                ],
+                            });
+                        }
+                        Some((g, l))
+                    }
+                    None => None,
+                };
+                Ok(inputs.edge([i, j], face_k, k, other))
+            },
+            filler_edge,
+        )?;
         let convexity = |k: [u32; 2]| {
             let at = keys
                 .binary_search(&k)
                 .expect("a changed face's edges are rebuilt with it");
             fresh_edges[at].convexity
         };
-        for &f in &fresh_faces {
-            let t = triangles[f as usize];
-            // Edge ids are given when the topology is made ([`Rounds::finish`]).
-            let convexities = triangle_edge_keys(t).map(convexity);
-            let face = inputs.face(f as usize, t, [u32::MAX; 3], convexities)?;
+        let built = collect_first_error(
+            fresh_faces.len(),
+            |n| {
+                let f = fresh_faces[n];
+                let t = triangles[f as usize];
+                // Edge ids are given when the topology is made ([`Rounds::finish`]).
+                let convexities = triangle_edge_keys(t).map(convexity);
+                inputs.face(f as usize, t, [u32::MAX; 3], convexities)
+            },
+            filler_face,
+        )?;
+        for (&f, face) in fresh_faces.iter().zip(built) {
             match hull.faces.get_mut(f as usize) {
                 Some(slot) => *slot = face,
                 None => {
@@ -380,11 +405,15 @@ impl Rounds {
                 }
             }
         }
-        for edge in &mut fresh_edges {
-            inputs.edge_tetrahedra(edge, &hull.faces)?;
-        }
+        let faces = &hull.faces;
+        let done: Vec<Result<(), HullError>> = fresh_edges
+            .par_iter_mut()
+            .map(|edge| inputs.edge_tetrahedra(edge, faces))
+            .collect();
+        done.into_iter().collect::<Result<(), _>>()?;
         for (&k, edge) in keys.iter().zip(fresh_edges) {
-            hull.changed.insert(k, Some(edge));
+            hull.changed.insert(k, Some(hull.made.len() as u32));
+            hull.made.push(edge);
         }
         let hull = &self.hull;
         // The new tetrahedra, in order, and their overlaps with every tetrahedron.
