@@ -287,6 +287,14 @@ pub fn face_cone_axis(mesh: &TriMesh, face_normals: &[DVec3], v: u32) -> Option<
 }
 
 /// [`face_cone_axis`] for a list of unit normals (zero vectors are ignored).
+///
+/// The 200 steps are cut short where they can no longer change anything: once a step moves
+/// `m` by less than rounding (`m + d·step == m` exactly), every later candidate is the same
+/// `normalize(m)`, so a candidate that does not improve on `m` then never will, and `m` is
+/// final, bit for bit what the remaining steps would leave (tested against all 200). Each
+/// `m`'s minimum is kept instead of recomputed per step. Together 3–4 times fewer dot
+/// products: the cone axes of the conditioned vertex normals were most of Suzanne's normals
+/// stage (~100 ms for 968 faces) and the rounds' new vertices.
 pub fn cone_axis(normals: &[DVec3]) -> Option<(DVec3, f64)> {
     let fn_: Vec<DVec3> = normals
         .iter()
@@ -301,6 +309,7 @@ pub fn cone_axis(normals: &[DVec3]) -> Option<(DVec3, f64)> {
     if m == DVec3::ZERO {
         m = fn_[0];
     }
+    let mut worst_m = worst(m);
     let mut step = 0.5;
     for _ in 0..200 {
         let f = fn_
@@ -308,14 +317,18 @@ pub fn cone_axis(normals: &[DVec3]) -> Option<(DVec3, f64)> {
             .copied()
             .min_by(|a, b| a.dot(m).total_cmp(&b.dot(m)))
             .expect("non-empty");
-        let cand = (m + (f - m * f.dot(m)) * step).normalize_or_zero();
-        if worst(cand) > worst(m) {
-            m = cand;
+        let moved = m + (f - m * f.dot(m)) * step;
+        let cand = moved.normalize_or_zero();
+        let worst_cand = worst(cand);
+        if worst_cand > worst_m {
+            (m, worst_m) = (cand, worst_cand);
+        } else if moved == m {
+            break;
         } else {
             step *= 0.5;
         }
     }
-    Some((m, worst(m)))
+    Some((m, worst_m))
 }
 
 /// The unit face normals of `mesh` (zero for degenerate faces): [`TriMesh::face_normal`] is
@@ -363,4 +376,70 @@ fn conditioned(
         blend(hi)
     };
     Some(new * normal.length().max(f64::MIN_POSITIVE))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_rng::Lcg;
+
+    /// [`cone_axis`] as it was: all 200 steps, each step's minima recomputed.
+    fn cone_axis_all_steps(normals: &[DVec3]) -> Option<(DVec3, f64)> {
+        let fn_: Vec<DVec3> = normals
+            .iter()
+            .copied()
+            .filter(|n| n.length_squared() > 0.0)
+            .collect();
+        if fn_.is_empty() {
+            return None;
+        }
+        let worst = |n: DVec3| fn_.iter().map(|f| f.dot(n)).fold(f64::INFINITY, f64::min);
+        let mut m = fn_.iter().copied().sum::<DVec3>().normalize_or_zero();
+        if m == DVec3::ZERO {
+            m = fn_[0];
+        }
+        let mut step = 0.5;
+        for _ in 0..200 {
+            let f = fn_
+                .iter()
+                .copied()
+                .min_by(|a, b| a.dot(m).total_cmp(&b.dot(m)))
+                .expect("non-empty");
+            let cand = (m + (f - m * f.dot(m)) * step).normalize_or_zero();
+            if worst(cand) > worst(m) {
+                m = cand;
+            } else {
+                step *= 0.5;
+            }
+        }
+        Some((m, worst(m)))
+    }
+
+    /// Stopping once a step no longer moves the axis leaves the axis and its minimum of all
+    /// 200 steps, bit for bit: on fans of 1 to 12 unit normals around random axes, narrow
+    /// and wide (some beyond a hemisphere), with zero normals mixed in, and on opposite pairs.
+    #[test]
+    fn early_stop_keeps_the_cone_axis_of_every_step() {
+        let mut rng = Lcg(11);
+        for case in 0..3000 {
+            let axis = rng.vec().normalize_or_zero();
+            let spread = [0.05, 0.5, 1.5, 4.0][case % 4];
+            let k = 1 + case % 12;
+            let mut normals: Vec<DVec3> = (0..k)
+                .map(|_| (axis + spread * rng.vec()).normalize_or_zero())
+                .collect();
+            if case % 7 == 0 {
+                normals.push(DVec3::ZERO);
+            }
+            let got = cone_axis(&normals);
+            let want = cone_axis_all_steps(&normals);
+            let bits = |r: Option<(DVec3, f64)>| {
+                r.map(|(m, w)| (m.to_array().map(f64::to_bits), w.to_bits()))
+            };
+            assert_eq!(bits(got), bits(want), "case {case}: {normals:?}");
+        }
+        let opposite = [DVec3::X, -DVec3::X];
+        assert_eq!(cone_axis(&opposite), cone_axis_all_steps(&opposite));
+        assert_eq!(cone_axis(&[DVec3::ZERO]), None);
+    }
 }

@@ -145,28 +145,19 @@ fn split_all(
     edge_points: &[DVec3],
 ) -> Result<Subdivided, MeshError> {
     let t = mesh.topology();
-    let nv = mesh.vertex_count() as u32;
-    let mut new_id = vec![u32::MAX; t.edge_count()];
-    let mut positions = even;
-    let mut origin: Vec<VertexOrigin> = (0..nv).map(VertexOrigin::Vertex).collect();
-    let mut tris = Vec::with_capacity(4 * mesh.face_count());
-    let mut parent = Vec::with_capacity(4 * mesh.face_count());
-    for (f, tri) in mesh.triangles().iter().enumerate() {
-        let mut m = [0u32; 3];
-        for (k, mk) in m.iter_mut().enumerate() {
-            let e = t.corner_edge(3 * f as u32 + k as u32) as usize;
-            if new_id[e] == u32::MAX {
-                new_id[e] = positions.len() as u32;
-                positions.push(edge_points[e]);
-                origin.push(VertexOrigin::Edge(t.edge(e as u32)));
-            }
-            *mk = new_id[e];
+    let nv = mesh.vertex_count();
+    let (positions, tris, new_id) = split_triangles(mesh, even, edge_points);
+    let mut edge_of = vec![0u32; positions.len() - nv];
+    for (e, &id) in new_id.iter().enumerate() {
+        if id != u32::MAX {
+            edge_of[id as usize - nv] = e as u32;
         }
-        let [a, b, c] = *tri;
-        let [ab, bc, ca] = m;
-        tris.extend([[a, ab, ca], [b, bc, ab], [ab, bc, ca], [bc, c, ca]]);
-        parent.extend([f as u32; 4]);
     }
+    let origin: Vec<VertexOrigin> = (0..nv as u32)
+        .map(VertexOrigin::Vertex)
+        .chain(edge_of.iter().map(|&e| VertexOrigin::Edge(t.edge(e))))
+        .collect();
+    let parent: Vec<u32> = (0..mesh.face_count() as u32).flat_map(|f| [f; 4]).collect();
     let src = parent
         .iter()
         .map(|&f| mesh.source_faces()[f as usize])
@@ -177,6 +168,37 @@ fn split_all(
         face_parent: parent,
         vertex_origin: origin,
     })
+}
+
+/// The 1-to-4 split of every triangle of `mesh`: the positions (`even`, then each edge's
+/// point, numbered where a corner of the faces in order first meets the edge), the four
+/// triangles of each face in face order, and each edge's new vertex id (`u32::MAX` for an
+/// edge of no face). The parts of [`Subdivided::mesh`] without its topology, for a caller
+/// that only cuts a piece out of it (`butterfly_limit_normal`).
+pub(crate) fn split_triangles(
+    mesh: &TriMesh,
+    even: Vec<DVec3>,
+    edge_points: &[DVec3],
+) -> (Vec<DVec3>, Vec<[u32; 3]>, Vec<u32>) {
+    let t = mesh.topology();
+    let mut new_id = vec![u32::MAX; t.edge_count()];
+    let mut positions = even;
+    let mut tris = Vec::with_capacity(4 * mesh.face_count());
+    for (f, tri) in mesh.triangles().iter().enumerate() {
+        let mut m = [0u32; 3];
+        for (k, mk) in m.iter_mut().enumerate() {
+            let e = t.corner_edge(3 * f as u32 + k as u32) as usize;
+            if new_id[e] == u32::MAX {
+                new_id[e] = positions.len() as u32;
+                positions.push(edge_points[e]);
+            }
+            *mk = new_id[e];
+        }
+        let [a, b, c] = *tri;
+        let [ab, bc, ca] = m;
+        tris.extend([[a, ab, ca], [b, bc, ab], [ab, bc, ca], [bc, c, ca]]);
+    }
+    (positions, tris, new_id)
 }
 
 /// One step of Loop subdivision with boundary rules (boundary curves are cubic B-splines).
@@ -200,6 +222,16 @@ pub fn loop_subdivide(mesh: &TriMesh, weights: LoopWeights) -> Result<Subdivided
 /// # Errors
 /// [`MeshError::NonManifoldEdge`] / [`MeshError::NonManifoldVertex`] on non-manifold input.
 pub fn butterfly_subdivide(mesh: &TriMesh) -> Result<Subdivided, MeshError> {
+    split_all(
+        mesh,
+        mesh.positions().to_vec(),
+        &butterfly_edge_points(mesh)?,
+    )
+}
+
+/// The modified Butterfly points of every edge of `mesh`, in topology order: the new vertices
+/// of [`butterfly_subdivide`].
+pub(crate) fn butterfly_edge_points(mesh: &TriMesh) -> Result<Vec<DVec3>, MeshError> {
     require_manifold(mesh.topology())?;
     // Each vertex's ring once, not once for each of its edges: an edge point reads both its
     // ends' rings, and building a ring (`Topology::fans`) was most of an edge point's cost
@@ -214,7 +246,7 @@ pub fn butterfly_subdivide(mesh: &TriMesh) -> Result<Subdivided, MeshError> {
             edge_point_with_rings(mesh, e, &rings[a as usize], &rings[b as usize])
         })
         .collect();
-    split_all(mesh, mesh.positions().to_vec(), &edges)
+    Ok(edges)
 }
 
 /// The vertex across edge `x`–`y` from face `f`, or the parallelogram reflection
@@ -242,18 +274,39 @@ fn extraordinary(mesh: &TriMesh, v: u32, to: u32, ring: &[u32]) -> DVec3 {
     let k = ring.len();
     let start = ring.iter().position(|&u| u == to).unwrap_or(0);
     let mut s = 0.75 * p[v as usize];
+    let table = extraordinary_weights();
     for j in 0..k {
         let w = match k {
             3 => [5.0 / 12.0, -1.0 / 12.0, -1.0 / 12.0][j],
             4 => [3.0 / 8.0, 0.0, -1.0 / 8.0, 0.0][j],
-            _ => {
-                let a = 2.0 * PI * j as f64 / k as f64;
-                (0.25 + a.cos() + 0.5 * (2.0 * a).cos()) / k as f64
-            }
+            _ if k < table.len() => table[k][j],
+            _ => extraordinary_weight(k, j),
         };
         s += w * p[ring[(start + j) % k] as usize];
     }
     s
+}
+
+/// `s_j` of [`extraordinary`] for valence `k ≥ 5`.
+fn extraordinary_weight(k: usize, j: usize) -> f64 {
+    let a = 2.0 * PI * j as f64 / k as f64;
+    (0.25 + a.cos() + 0.5 * (2.0 * a).cos()) / k as f64
+}
+
+/// [`extraordinary_weight`] for every `j` of every valence `k < 33` (empty rows for
+/// `k < 5`), computed once: the two cosines per weight were a tenth of the Butterfly
+/// normals' work, which runs thousands of steps on the same few valences. The same
+/// function, so the same values, as computing them each time.
+fn extraordinary_weights() -> &'static [Vec<f64>] {
+    static TABLE: std::sync::OnceLock<Vec<Vec<f64>>> = std::sync::OnceLock::new();
+    TABLE.get_or_init(|| {
+        (0..33)
+            .map(|k| match k {
+                0..5 => Vec::new(),
+                _ => (0..k).map(|j| extraordinary_weight(k, j)).collect(),
+            })
+            .collect()
+    })
 }
 
 /// The modified Butterfly edge point of edge `e` (Zorin, Schröder, Sweldens 1996).
@@ -418,4 +471,33 @@ fn require_local_manifold(mesh: &TriMesh, e: u32) -> Result<(), MeshError> {
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The table holds, bit for bit, the weights the formula gives, for every valence it
+    /// covers (and nothing for those below 5, which have stencils of their own); the weights
+    /// of a valence sum to 1/4, so that with the 3/4 of the vertex an edge point is an affine
+    /// combination.
+    #[test]
+    fn extraordinary_weights_table_is_the_formula() {
+        let table = extraordinary_weights();
+        assert_eq!(table.len(), 33);
+        for (k, row) in table.iter().enumerate() {
+            if k < 5 {
+                assert!(row.is_empty(), "valence {k}");
+                continue;
+            }
+            assert_eq!(row.len(), k);
+            for (j, w) in row.iter().enumerate() {
+                assert_eq!(w.to_bits(), extraordinary_weight(k, j).to_bits(), "{k} {j}");
+            }
+            assert!(
+                (row.iter().sum::<f64>() - 0.25).abs() < 1e-15,
+                "valence {k}"
+            );
+        }
+    }
 }
