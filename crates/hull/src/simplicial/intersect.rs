@@ -107,7 +107,6 @@ impl SimplicialHull {
                     verts: checked.verts,
                     planes: checked.planes,
                 },
-                later: Vec::new(),
                 later_tree: None,
             },
         )
@@ -237,10 +236,19 @@ impl Indexed {
     /// rounds), and on one core that was most of the main thread's work while the other waited
     /// (`perf`: about 0.1 s of Suzanne's 0.9 s hull stage, in `overlaps_of`).
     fn over(tets: &[(TetKey, [DVec3; 4], FacePlanes)]) -> Indexed {
-        let boxes = tets
-            .par_iter()
+        Indexed::over_with(tets.len(), |i| tets[i])
+    }
+
+    /// [`Indexed::over`] the `n` tetrahedra `entry(0..n)`, read where they are (a later
+    /// round's tree is made from the last one's and the new tetrahedra).
+    fn over_with(
+        n: usize,
+        entry: impl Fn(usize) -> (TetKey, [DVec3; 4], FacePlanes) + Sync,
+    ) -> Indexed {
+        let boxes = (0..n)
+            .into_par_iter()
             .with_min_len(GATHER_GRAIN)
-            .map(|t| tet_box(&t.1))
+            .map(|i| tet_box(&entry(i).1))
             .collect();
         let tree = MortonBvh::with_leaf_size(boxes, TET_LEAF_SIZE);
         let (keys, (verts, planes)) = tree
@@ -248,7 +256,7 @@ impl Indexed {
             .par_iter()
             .with_min_len(GATHER_GRAIN)
             .map(|&i| {
-                let (key, verts, planes) = tets[i as usize];
+                let (key, verts, planes) = entry(i as usize);
                 (key, (verts, planes))
             })
             .unzip();
@@ -258,6 +266,15 @@ impl Indexed {
             planes,
             tree,
         }
+    }
+
+    /// Slot `s`'s key, vertices and face planes.
+    fn entry(&self, s: usize) -> (TetKey, [DVec3; 4], FacePlanes) {
+        (self.keys[s], self.verts[s], self.planes[s])
+    }
+
+    fn len(&self) -> usize {
+        self.keys.len()
     }
 }
 
@@ -276,7 +293,6 @@ const GATHER_GRAIN: usize = 1024;
 /// tetrahedra's planes for every candidate pair was another 14 %.
 pub(crate) struct TetIndex {
     first: Indexed,
-    later: Vec<(TetKey, [DVec3; 4], FacePlanes)>,
     later_tree: Option<Indexed>,
 }
 
@@ -301,31 +317,8 @@ impl TetIndex {
         resolve: impl Fn(TetKey) -> Option<RoundTet> + Sync,
         tol: f64,
     ) -> Vec<Overlap> {
-        // The tetrahedra of later rounds that a round since has replaced leave the index:
-        // the queries below would skip them (`resolve` names a tetrahedron with other
-        // vertices, or none), and a replaced one stays replaced (a tetrahedron remade as it
-        // was is listed again, in `new`). Refinement replaces tetrahedra where it refines
-        // again, so they piled up where the queries look: over Suzanne's 17 rounds 8 of every
-        // 11 candidates were replaced ones. Once the first round's tree holds no more
-        // tetrahedra than the later rounds made, its tetrahedra join theirs, to leave the
-        // same way (Suzanne's first 3 750, all replaced within a few rounds, were still
-        // 1.9 M of the 4.9 M candidates left); the bunny's 270 k stay in their tree.
-        if !new.is_empty() && self.first.keys.len() <= self.later.len() + new.len() {
-            let first = std::mem::replace(&mut self.first, Indexed::over(&[]));
-            let entries = first.keys.into_iter().zip(first.verts).zip(first.planes);
-            self.later.extend(entries.map(|((key, v), p)| (key, v, p)));
-        }
-        if !new.is_empty() {
-            // Which stay, in parallel; then in place, keeping the list's room (a new list
-            // each round, grown again by `new`, was a fifth of the main thread's samples).
-            let keep: Vec<bool> = self
-                .later
-                .par_iter()
-                .with_min_len(GATHER_GRAIN)
-                .map(|(key, v, _)| resolve(*key).is_some_and(|u| u.vertices == *v))
-                .collect();
-            let mut keep = keep.into_iter();
-            self.later.retain(|_| keep.next() == Some(true));
+        if new.is_empty() {
+            return Vec::new();
         }
         // Each new tetrahedron's planes, once: for the index and for its own queries.
         let new_planes: Vec<FacePlanes> = new
@@ -333,14 +326,50 @@ impl TetIndex {
             .with_min_len(GATHER_GRAIN)
             .map(|t| FacePlanes::of(&t.vertices))
             .collect();
-        self.later.extend(
-            new.iter()
-                .zip(&new_planes)
-                .map(|(t, p)| (t.key(), t.vertices, *p)),
+        // The later rounds' tree is made again over the tetrahedra it listed, less those a
+        // round since has replaced, and the new ones. The replaced leave because the
+        // queries below would skip them (`resolve` names a tetrahedron with other vertices,
+        // or none), and a replaced one stays replaced (a tetrahedron remade as it was is
+        // listed again, in `new`); refinement replaces tetrahedra where it refines again, so
+        // they piled up where the queries look: over Suzanne's 17 rounds 8 of every 11
+        // candidates were replaced ones. Once the first round's tree holds no more
+        // tetrahedra than the later rounds', its tetrahedra join theirs, to leave the same
+        // way (Suzanne's first 3 750, all replaced within a few rounds, were still 1.9 M of
+        // the 4.9 M candidates left); the bunny's 270 k stay in their tree. The survivors are
+        // found in parallel and read from the old trees where they are: keeping them in a
+        // list of their own, pruned and grown every round, was a fifth of the main thread's
+        // samples.
+        let old = self.later_tree.take();
+        let later_len = old.as_ref().map_or(0, Indexed::len);
+        let first = (self.first.len() <= later_len + new.len())
+            .then(|| std::mem::replace(&mut self.first, Indexed::over(&[])));
+        let empty = Indexed::over(&[]);
+        let current = |ix: &Indexed| -> Vec<u32> {
+            (0..ix.len() as u32)
+                .into_par_iter()
+                .with_min_len(GATHER_GRAIN)
+                .filter(|&s| {
+                    let (key, v) = (ix.keys[s as usize], &ix.verts[s as usize]);
+                    resolve(key).is_some_and(|u| u.vertices == *v)
+                })
+                .collect()
+        };
+        let (old, first) = (
+            old.as_ref().unwrap_or(&empty),
+            first.as_ref().unwrap_or(&empty),
         );
-        if !new.is_empty() {
-            self.later_tree = Some(Indexed::over(&self.later));
-        }
+        let (kept_old, kept_first) = (current(old), current(first));
+        let (a, b) = (kept_old.len(), kept_old.len() + kept_first.len());
+        self.later_tree = Some(Indexed::over_with(b + new.len(), |i| {
+            if i < a {
+                old.entry(kept_old[i] as usize)
+            } else if i < b {
+                first.entry(kept_first[i - a] as usize)
+            } else {
+                let k = i - b;
+                (new[k].key(), new[k].vertices, new_planes[k])
+            }
+        }));
         // Each tree with whether every tetrahedron it lists is the hull's: the later rounds'
         // list was just pruned to those (and queries only run when it was), so its candidates
         // need no look-up unless they overlap; the first round's tree may still list
@@ -456,7 +485,6 @@ mod tests {
             .collect();
         let mut index = TetIndex {
             first: Indexed::over(&entries),
-            later: Vec::new(),
             later_tree: None,
         };
         let nudge = DVec3::new(0.1, 0.1, 0.1);
@@ -485,6 +513,9 @@ mod tests {
             [[0, 10], [3, 9], [4, 10]]
         );
         // Replaced tetrahedra left the list: 4 + 2 + 2 + 2 + 3 listed, 11 of the hull.
-        assert_eq!(index.later.len(), hull.len());
+        assert_eq!(
+            index.later_tree.as_ref().map_or(0, Indexed::len),
+            hull.len()
+        );
     }
 }

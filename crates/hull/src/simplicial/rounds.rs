@@ -211,21 +211,22 @@ struct Current {
     /// The first round's edges and their keys (the topology's order, ascending).
     first_edges: Vec<HullEdge>,
     first_keys: Vec<[u32; 2]>,
-    /// Edges made (`Some`: their place in `made`) or removed by a split (`None`) since the
-    /// first round, by key. (A fast hash: the lookups of every candidate pair's edge were 9 %
-    /// of Suzanne's hull. Indices, not the 600-byte records: growing the map moved them all,
-    /// 8 % of the main thread's samples over Suzanne's rounds.)
-    changed: FastMap<[u32; 2], Option<u32>>,
-    /// The edges made since the first round, in the order made (a remade edge's older record
-    /// stays, unnamed).
-    made: Vec<HullEdge>,
+    /// Edges made (`Some`: their round's list in `made` and their place there) or removed by
+    /// a split (`None`) since the first round, by key. (A fast hash: the lookups of every
+    /// candidate pair's edge were 9 % of Suzanne's hull. Places, not the 600-byte records:
+    /// growing the map moved them all, 8 % of the main thread's samples over Suzanne's
+    /// rounds.)
+    changed: FastMap<[u32; 2], Option<(u32, u32)>>,
+    /// The edges each round made, as it made them (a remade edge's older record stays,
+    /// unnamed): one list per round, moved in whole, where one list of all grew by copying.
+    made: Vec<Vec<HullEdge>>,
 }
 
 impl Current {
     /// The current edge with key `k`: made since the first round, or the first round's.
     fn edge(&self, k: [u32; 2]) -> Option<&HullEdge> {
         match self.changed.get(&k) {
-            Some(made) => made.map(|i| &self.made[i as usize]),
+            Some(made) => made.map(|(r, i)| &self.made[r as usize][i as usize]),
             None => {
                 let id = self.first_keys.binary_search(&k).ok()?;
                 Some(&self.first_edges[id])
@@ -411,10 +412,11 @@ impl Rounds {
             .map(|edge| inputs.edge_tetrahedra(edge, faces))
             .collect();
         done.into_iter().collect::<Result<(), _>>()?;
-        for (&k, edge) in keys.iter().zip(fresh_edges) {
-            hull.changed.insert(k, Some(hull.made.len() as u32));
-            hull.made.push(edge);
+        let r = hull.made.len() as u32;
+        for (i, &k) in keys.iter().enumerate() {
+            hull.changed.insert(k, Some((r, i as u32)));
         }
+        hull.made.push(fresh_edges);
         let hull = &self.hull;
         // The new tetrahedra, in order, and their overlaps with every tetrahedron.
         let sides = [Side::Positive, Side::Negative];
