@@ -282,10 +282,10 @@ impl Indexed {
 /// bytes to copy or a box to compute, so smaller pieces would cost more in scheduling.
 const GATHER_GRAIN: usize = 1024;
 
-/// Every tetrahedron made so far, for [`TetIndex::overlaps_of`]: the first round's tree over
-/// every tetrahedron of the hull, and a tree over the tetrahedra later rounds made, rebuilt by
-/// each round (a few thousand on the bunny, a hundred thousand or so over Suzanne's 17
-/// rounds: a few milliseconds of sorting per round).
+/// Every tetrahedron of the hull, for [`TetIndex::overlaps_of`]: the first round's tree over
+/// every tetrahedron it made (which may go on listing those later rounds replace), and a tree
+/// over the current tetrahedra later rounds made, made again by each round (a few thousand on
+/// the bunny, up to ~40 k on Suzanne, where the first round's join them in the second round).
 ///
 /// Each tetrahedron's face planes are kept with it, computed once. Scanning a list of the
 /// later tetrahedra for each new one was 80 % of Suzanne's `perf` samples (the hull took
@@ -337,7 +337,7 @@ impl TetIndex {
         // way (Suzanne's first 3 750, all replaced within a few rounds, were still 1.9 M of
         // the 4.9 M candidates left); the bunny's 270 k stay in their tree. The survivors are
         // found in parallel and read from the old trees where they are: keeping them in a
-        // list of their own, pruned and grown every round, was a fifth of the main thread's
+        // list of their own, pruned and grown every round, was 11–20 % of the main thread's
         // samples.
         let old = self.later_tree.take();
         let later_len = old.as_ref().map_or(0, Indexed::len);
@@ -494,8 +494,8 @@ mod tests {
             [[0, 4]]
         );
         assert_eq!(index.first.keys.len(), 4, "not yet joined");
-        // Face 5 moves to 200 and face 1 (first round) to 300; face 6 overlaps where both
-        // were, face 7 the moved face 5, an earlier later round's, not new, still listed.
+        // Face 5 moves to 200 and face 1 (first round) to 300. Then face 6 lies where face 5
+        // was, and face 7 on the moved face 5, an earlier later round's, not new.
         let made = [tet(5, at(200.0)), tet(1, at(300.0))];
         assert_eq!(round(&mut index, &mut hull, &made), Vec::<[u32; 2]>::new());
         assert!(index.first.keys.is_empty(), "joined the later rounds' list");
