@@ -258,6 +258,60 @@ fn repair_welds_orients_and_reports() {
     }
 }
 
+/// Faces dropped as invalid (fewer than three corners, a non-finite or missing vertex), as
+/// collapsed (welded corners repeat) or as degenerate (no area) are reported by input id in
+/// face order, and the rest kept in face order: on 300 copies of a block of seven faces, so
+/// that the per-face work is split among threads.
+#[test]
+fn repair_reports_dropped_faces_in_face_order() {
+    let block = [
+        vec![0, 1, 2],    // kept
+        vec![0, 1],       // invalid: two corners
+        vec![0, 4, 2],    // invalid: vertex 4 is not finite
+        vec![1, 6, 3],    // collapsed: 6 welds onto 1
+        vec![0, 1, 5],    // degenerate: on a line
+        vec![1, 3, 2],    // kept
+        vec![0, 1, 1000], // invalid: no such vertex
+    ];
+    let mut m = PolygonMesh::new();
+    let (mut invalid, mut collapsed, mut degenerate, mut kept) = (vec![], vec![], vec![], vec![]);
+    for k in 0..300u32 {
+        let base = m.positions.len() as u32;
+        let x = 10.0 * k as f64;
+        for p in [
+            (0.0, 0.0),
+            (1.0, 0.0),
+            (0.0, 1.0),
+            (1.0, 1.0),
+            (f64::NAN, 0.0),
+            (2.0, 0.0),
+            (1.0, 0.0),
+        ] {
+            m.positions.push(DVec3::new(x + p.0, p.1, 0.0));
+        }
+        for (j, face) in block.iter().enumerate() {
+            let f = m.face_count() as u32;
+            let ids: Vec<u32> = face
+                .iter()
+                .map(|&v| if v == 1000 { 1_000_000 } else { base + v })
+                .collect();
+            m.push_face(&ids);
+            match j {
+                1 | 2 | 6 => invalid.push(f),
+                3 => collapsed.push(f),
+                4 => degenerate.push(f),
+                _ => kept.push(f),
+            }
+        }
+    }
+    let r = repair(&m, &RepairOptions::default()).unwrap();
+    assert_eq!(r.report.dropped_invalid_faces, invalid);
+    assert_eq!(r.report.collapsed_faces, collapsed);
+    assert_eq!(r.report.dropped_degenerate_faces, degenerate);
+    assert_eq!(r.report.face_map, kept);
+    assert!(validate(&r.mesh).is_valid());
+}
+
 #[test]
 fn repair_flips_single_face_and_keeps_properties() {
     let o = octahedron();
