@@ -173,6 +173,11 @@ impl<'a> Content<'a> {
         ]
     }
 
+    /// The binary buffer's length: its views', back to back.
+    fn bin_len(&self) -> usize {
+        self.view_lengths().iter().sum()
+    }
+
     /// Streams the binary buffer to `sink`, view after view.
     fn write_bin(&self, sink: &mut dyn std::io::Write) -> std::io::Result<()> {
         let n = self.mesh.vertex_count();
@@ -287,7 +292,7 @@ impl<'a> Content<'a> {
             });
             root.scene = Some(scene);
         }
-        let bin_len: usize = self.view_lengths().iter().sum();
+        let bin_len = self.bin_len();
         if bin_len > 0 {
             root.push(gltf_json::Buffer {
                 byte_length: bin_len.into(),
@@ -370,7 +375,7 @@ pub(crate) fn write_to(
             .map_err(|e| ctx.invalid(format!("JSON serialisation failed: {e}")))
     };
     if ctx.format != crate::Format::Glb {
-        let mut bin = Vec::with_capacity(content.view_lengths().iter().sum());
+        let mut bin = Vec::with_capacity(content.bin_len());
         content.write_bin(&mut bin).map_err(io_err)?;
         let uri = (!bin.is_empty()).then(|| {
             format!(
@@ -390,7 +395,7 @@ pub(crate) fn write_to(
     while !text.len().is_multiple_of(4) {
         text.push(b' ');
     }
-    let bin_len: usize = content.view_lengths().iter().sum();
+    let bin_len = content.bin_len();
     let total = 12 + 8 + text.len() + if bin_len > 0 { 8 + bin_len } else { 0 };
     // Every other length is smaller than the total, so one check covers them all.
     let total32 = u32::try_from(total).map_err(|_| {

@@ -84,23 +84,12 @@ struct VertexFaces {
 
 impl VertexFaces {
     fn of(vertex_count: usize, triangles: &[[u32; 3]]) -> VertexFaces {
-        let mut offsets = vec![0u32; vertex_count + 1];
-        for t in triangles {
-            for &w in t {
-                offsets[w as usize + 1] += 1;
-            }
-        }
-        for k in 0..vertex_count {
-            offsets[k + 1] += offsets[k];
-        }
-        let mut fill = offsets.clone();
-        let mut faces = vec![0u32; 3 * triangles.len()];
-        for (f, t) in triangles.iter().enumerate() {
-            for &w in t {
-                faces[fill[w as usize] as usize] = f as u32;
-                fill[w as usize] += 1;
-            }
-        }
+        // Items in face order, so each vertex's faces come in increasing id order.
+        let corners = triangles
+            .iter()
+            .enumerate()
+            .flat_map(|(f, t)| t.iter().map(move |&w| (w, f as u32)));
+        let (offsets, faces) = crate::topology::csr(vertex_count, corners);
         VertexFaces { offsets, faces }
     }
 
@@ -127,10 +116,7 @@ impl VertexFaces {
 /// assert!((n - ico.positions()[0].normalize()).length() < 1e-12);
 /// ```
 pub fn butterfly_limit_normal(mesh: &TriMesh, v: u32, levels: usize) -> Option<DVec3> {
-    let topo = mesh.topology();
-    let around = |u: u32, out: &mut Vec<u32>| out.extend(topo.vertex_faces(u));
-    let (mut local, mut at) =
-        neighbourhood(mesh.positions(), mesh.triangles(), around, v, RINGS).ok()?;
+    let (mut local, mut at) = cut_out(mesh, v).ok()?;
     for _ in 0..levels {
         // One Butterfly step of the cut-out (`butterfly_subdivide`) without the topology of
         // the whole finer mesh, of which only the faces around `at` are needed: that
@@ -144,10 +130,22 @@ pub fn butterfly_limit_normal(mesh: &TriMesh, v: u32, levels: usize) -> Option<D
         let around = |u: u32, out: &mut Vec<u32>| out.extend_from_slice(incidence.at(u));
         (local, at) = neighbourhood(&positions, &triangles, around, at, RINGS).ok()?;
     }
-    let sum: DVec3 = local
+    area_weighted_normal(&local, at)
+}
+
+/// [`neighbourhood`] of vertex `v` of a mesh, through its topology.
+fn cut_out(mesh: &TriMesh, v: u32) -> Result<(TriMesh, u32), MeshError> {
+    let topo = mesh.topology();
+    let around = |u: u32, out: &mut Vec<u32>| out.extend(topo.vertex_faces(u));
+    neighbourhood(mesh.positions(), mesh.triangles(), around, v, RINGS)
+}
+
+/// The unit area-weighted normal of vertex `v`'s faces; `None` when it vanishes.
+fn area_weighted_normal(mesh: &TriMesh, v: u32) -> Option<DVec3> {
+    let sum: DVec3 = mesh
         .topology()
-        .vertex_faces(at)
-        .map(|f| local.face_normal(f as usize))
+        .vertex_faces(v)
+        .map(|f| mesh.face_normal(f as usize))
         .sum();
     let l = sum.length();
     (l > 0.0 && l.is_finite()).then(|| sum / l)
@@ -183,27 +181,20 @@ mod tests {
     /// The normal as it was computed: each level a full `butterfly_subdivide` (with its
     /// topology) and a cut-out through that topology.
     fn normal_through_whole_steps(mesh: &TriMesh, v: u32, levels: usize) -> Option<DVec3> {
-        let cut = |m: &TriMesh, v: u32| {
-            let t = m.topology();
-            neighbourhood(
-                m.positions(),
-                m.triangles(),
-                |u, out| out.extend(t.vertex_faces(u)),
-                v,
-                RINGS,
-            )
-        };
-        let (mut local, mut at) = cut(mesh, v).ok()?;
+        let (mut local, mut at) = cut_out(mesh, v).ok()?;
         for _ in 0..levels {
             let fine = crate::subdivision::butterfly_subdivide(&local).ok()?.mesh;
-            (local, at) = cut(&fine, at).ok()?;
+            (local, at) = cut_out(&fine, at).ok()?;
         }
-        let sum: DVec3 = local
-            .topology()
-            .vertex_faces(at)
-            .map(|f| local.face_normal(f as usize))
-            .sum();
-        Some(sum / sum.length())
+        area_weighted_normal(&local, at)
+    }
+
+    /// A torus with vertex 5 moved off it.
+    fn jittered_torus(n: u32, m: u32) -> TriMesh {
+        let torus = shapes::torus(n, m, 1.0, 0.4);
+        let mut p = torus.positions().to_vec();
+        p[5] += DVec3::new(0.05, -0.03, 0.04);
+        TriMesh::new(p, torus.triangles().to_vec()).unwrap()
     }
 
     /// Cutting the finer mesh through its own vertex–face lists instead of its topology gives
@@ -211,11 +202,11 @@ mod tests {
     /// 6) and the bicone (valences 4 and 16).
     #[test]
     fn cut_outs_without_the_fine_topology_give_the_same_normal() {
-        let mut torus = shapes::torus(12, 8, 1.0, 0.4);
-        let mut p = torus.positions().to_vec();
-        p[5] += DVec3::new(0.05, -0.03, 0.04);
-        torus = TriMesh::new(p, torus.triangles().to_vec()).unwrap();
-        for mesh in [shapes::icosphere(1), torus, shapes::bicone(16, 0.1)] {
+        for mesh in [
+            shapes::icosphere(1),
+            jittered_torus(12, 8),
+            shapes::bicone(16, 0.1),
+        ] {
             for v in 0..mesh.vertex_count() as u32 {
                 let got =
                     butterfly_limit_normal(&mesh, v, 3).map(|n| n.to_array().map(f64::to_bits));
@@ -230,11 +221,7 @@ mod tests {
     fn butterfly_normal_converges() {
         // The change in direction between the last two levels, on a sphere-like mesh with
         // valences 5 and 6 and on a torus with a jittered vertex.
-        let mut torus = shapes::torus(24, 16, 1.0, 0.4);
-        let mut p = torus.positions().to_vec();
-        p[5] += DVec3::new(0.05, -0.03, 0.04);
-        torus = TriMesh::new(p, torus.triangles().to_vec()).unwrap();
-        for (mesh, v) in [(shapes::icosphere(1), 20), (torus, 5)] {
+        for (mesh, v) in [(shapes::icosphere(1), 20), (jittered_torus(24, 16), 5)] {
             let a = butterfly_limit_normal(&mesh, v, BUTTERFLY_NORMAL_LEVELS - 1).unwrap();
             let b = butterfly_limit_normal(&mesh, v, BUTTERFLY_NORMAL_LEVELS).unwrap();
             let angle = a.dot(b).clamp(-1.0, 1.0).acos();

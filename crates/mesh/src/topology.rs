@@ -79,7 +79,12 @@ pub struct Topology {
     vertex_edges: Vec<u32>,
 }
 
-fn csr(count: usize, items: impl Iterator<Item = (u32, u32)> + Clone) -> (Vec<u32>, Vec<u32>) {
+/// Compressed rows: for `items` `(row, value)` over rows `0..count`, the row offsets and the
+/// values, each row's in the order `items` gives them.
+pub(crate) fn csr(
+    count: usize,
+    items: impl Iterator<Item = (u32, u32)> + Clone,
+) -> (Vec<u32>, Vec<u32>) {
     let mut offsets = vec![0u32; count + 1];
     for (k, _) in items.clone() {
         offsets[k as usize + 1] += 1;
