@@ -200,13 +200,13 @@ fn constraints(
             // far from the origin the sub-tetrahedra are ill-conditioned enough for that to
             // show: the value mismatch across the edge facets grew fivefold (cow, Suzanne),
             // and taking `d` back from the zeroed direction made the constraints inconsistent.
-            let m = [0.5, 0.5, 0.0, 0.0];
             let g = mid_gradients[a];
             for x in [c, apexes[side]] {
                 let d = x - foot(x, p[b], p[cc]);
                 let dir = tets[ti].barycentric_direction(d);
-                // D_d F(m) = 3 b[d, m, m] (see `cubic`).
-                let weights = cubic::blossom_weights(dir, m, m).map(|w| 3.0 * w);
+                // D_d F(m) = 3 b[d, m, m] at m = (p_b + p_c)/2, the first edge's midpoint
+                // (see `cubic`).
+                let weights = cubic::first_edge_midpoint_weights(dir).map(|w| 3.0 * w);
                 let mut terms = [(0usize, 0.0f64); 20];
                 let mut len = 0;
                 for (r, &w) in weights.iter().enumerate() {
