@@ -327,11 +327,12 @@ pub(crate) fn value_partials(c: &Coeffs, tau: [f64; 4]) -> (f64, [f64; 4]) {
 pub(crate) const FIRST_EDGE_MIDPOINT: [f64; 4] = [0.5, 0.5, 0.0, 0.0];
 
 /// The terms of [`blossom_weights`]`(d, m, m)` for `m` = [`FIRST_EDGE_MIDPOINT`] that its loops
-/// do not skip for `m`, in their order: `(i, j, k, rank of e_i + e_j + e_k)` for the `j, k`
-/// where `m` is not zero.
-const FIRST_EDGE_MIDPOINT_TERMS: [(usize, usize, usize, u8); 16] = {
+/// do not skip for `m`, in their order: `(i, rank of e_i + e_j + e_k)` for the `j, k` where
+/// `m` is not zero (both such components are ½, which [`first_edge_midpoint_weights`] uses as
+/// a literal: checked here at compile time).
+const FIRST_EDGE_MIDPOINT_TERMS: [(usize, u8); 16] = {
     let m = FIRST_EDGE_MIDPOINT;
-    let mut terms = [(0usize, 0usize, 0usize, 0u8); 16];
+    let mut terms = [(0usize, 0u8); 16];
     let mut t = 0;
     let mut i = 0;
     while i < 4 {
@@ -340,11 +341,12 @@ const FIRST_EDGE_MIDPOINT_TERMS: [(usize, usize, usize, u8); 16] = {
             let mut k = 0;
             while k < 4 {
                 if m[j] != 0.0 && m[k] != 0.0 {
+                    assert!(m[j] == 0.5 && m[k] == 0.5, "m's non-zero components are ½");
                     let mut l = [0usize; 4];
                     l[i] += 1;
                     l[j] += 1;
                     l[k] += 1;
-                    terms[t] = (i, j, k, RANK3[(l[0] << 4) | (l[1] << 2) | l[2]]);
+                    terms[t] = (i, RANK3[(l[0] << 4) | (l[1] << 2) | l[2]]);
                     t += 1;
                 }
                 k += 1;
@@ -358,19 +360,19 @@ const FIRST_EDGE_MIDPOINT_TERMS: [(usize, usize, usize, u8); 16] = {
 };
 
 /// [`blossom_weights`]`(d, m, m)` for `m` = [`FIRST_EDGE_MIDPOINT`], bit for bit for a finite
-/// `d` (an infinite or NaN component gives a NaN weight either way, not always the same ones): the same
-/// products `(d_i · m_j) · m_k`, skipped where `d_i · m_j` is zero as there, added to the same
-/// weights in the same order, with the loops over `m`'s zero components and the ranks worked
-/// out at compile time. The split faces make twelve of these rows per face: the general
-/// loops and their 192 rank lookups per face were 1.6 % of the bunny's instructions
-/// (`cachegrind`, `algesurf smooth` at 3 × 2: `split::constraints` 655 M → 399 M).
+/// `d` (an infinite or NaN component gives a NaN weight either way, not always the same
+/// ones): the same products `(d_i · m_j) · m_k = (d_i · ½) · ½`, skipped where `d_i · ½` is
+/// zero as there, added to the same weights in the same order, with the loops over `m`'s zero
+/// components and the ranks worked out at compile time. The split faces make twelve of these
+/// rows per face: the general loops and their 192 rank lookups per face were 1.6 % of the
+/// bunny's instructions (`cachegrind`, `algesurf smooth` at 3 × 2: `split::constraints`
+/// 655 M → 399 M; reading `m_j`, `m_k` from the array instead of the literal gave 713 M).
 pub(crate) fn first_edge_midpoint_weights(d: [f64; 4]) -> Coeffs {
-    let m = FIRST_EDGE_MIDPOINT;
     let mut w = [0.0; 20];
-    for &(i, j, k, rank) in &FIRST_EDGE_MIDPOINT_TERMS {
-        let ab = d[i] * m[j];
+    for &(i, rank) in &FIRST_EDGE_MIDPOINT_TERMS {
+        let ab = d[i] * 0.5;
         if ab != 0.0 {
-            w[rank as usize] += ab * m[k];
+            w[rank as usize] += ab * 0.5;
         }
     }
     w

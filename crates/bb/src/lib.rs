@@ -52,6 +52,7 @@ pub use poly::{BbCurve, BbEvaluator, BbPoly, BbTetra, BbTriangle};
 pub use simplex::{Segment, Simplex, Tetrahedron, Triangle};
 pub mod bspline;
 pub mod continuity;
+pub mod extremes;
 pub mod monomial;
 pub mod roots;
 pub mod sheet;

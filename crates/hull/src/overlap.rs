@@ -1,5 +1,6 @@
 //! Interior-overlap test for two tetrahedra by the separating axis theorem.
 
+use algesurf_bb::extremes::{max_not_nan, min_not_nan};
 use glam::DVec3;
 
 /// The edges of a tetrahedron as vertex index pairs.
@@ -39,30 +40,6 @@ pub(crate) fn depth_beyond(a: &[DVec3; 4], b: &[DVec3; 4], stop: f64) -> f64 {
         pair_diagonal(a, b),
         stop,
     )
-}
-
-/// `a.min(b)` for an `a` that is not NaN, as one `minsd`: bit for bit on x86-64; elsewhere the
-/// same value, up to which zero answers `0.0` against `-0.0` (which `f64::min` leaves open).
-///
-/// Why it is the same value: on x86-64 `f64::min(a, b)` compiles to `minsd`, which answers
-/// `b < a ? b : a` (so `a` for equal values, `+0.0` against `-0.0` included, and `a` when `b`
-/// is NaN), and then replaces the answer by `b` when `a` is NaN, which costs six more
-/// instructions. Where `a` cannot be NaN that step never fires, and the comparison below is
-/// the same function. Used only where the first operand is a running extreme started at
-/// `±∞` or at a finite vertex coordinate (tetrahedra of a hull are finite:
-/// `Tetrahedron::new` rejects anything else), or the result of a `f64::min`/`max` with a
-/// finite constant, none of which is ever NaN. The pair test of the hull's overlap check
-/// takes a dozen of these per axis, on 5.3 M candidate pairs of the bunny.
-#[inline(always)]
-pub(crate) fn min_not_nan(a: f64, b: f64) -> f64 {
-    if b < a { b } else { a }
-}
-
-/// `a.max(b)` for an `a` that is not NaN, bit for bit: [`min_not_nan`]'s argument with
-/// `maxsd`, which answers `b > a ? b : a`.
-#[inline(always)]
-pub(crate) fn max_not_nan(a: f64, b: f64) -> f64 {
-    if b > a { b } else { a }
 }
 
 /// [`min_not_nan`] per component.
@@ -271,41 +248,6 @@ mod tests {
         let m = glam::DMat3::from_cols(t[1] - t[0], t[2] - t[0], t[3] - t[0]);
         let x = m.inverse() * (p - t[0]);
         [1.0 - x.x - x.y - x.z, x.x, x.y, x.z]
-    }
-
-    /// The NaN-free extremes are `f64::min`/`max` bit for bit whenever the first operand is
-    /// not NaN: signed zeros both ways round, infinities, subnormals and a NaN second operand.
-    #[test]
-    fn not_nan_extremes_are_the_std_ones_bit_for_bit() {
-        let xs = [
-            0.0,
-            -0.0,
-            1.0,
-            -1.0,
-            5e-324,
-            -5e-324,
-            1e300,
-            f64::INFINITY,
-            f64::NEG_INFINITY,
-            f64::NAN,
-            -f64::NAN,
-        ];
-        // `f64::min` may answer either zero for `0.0` against `-0.0` (x86-64's `minsd` gives
-        // the first operand, aarch64's `fminnm` the negative one): the bits are compared where
-        // the extremes were measured (x86-64), the values everywhere.
-        let same = |x: f64, y: f64| {
-            if cfg!(target_arch = "x86_64") {
-                x.to_bits() == y.to_bits()
-            } else {
-                x == y || (x.is_nan() && y.is_nan())
-            }
-        };
-        for a in xs.into_iter().filter(|a| !a.is_nan()) {
-            for b in xs {
-                assert!(same(min_not_nan(a, b), a.min(b)), "min {a} {b}");
-                assert!(same(max_not_nan(a, b), a.max(b)), "max {a} {b}");
-            }
-        }
     }
 
     /// `depth_until` with a division per face axis, as it was before the least numerator was

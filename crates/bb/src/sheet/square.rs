@@ -13,6 +13,7 @@
 //! de Casteljau coefficients positive — at every ray of the square, by branch and bound.
 
 use super::Ranked;
+use crate::extremes::{max_not_nan, min_not_nan};
 
 /// Bernstein coefficients `c[i][j]` of a polynomial of bidegree (3, 3) on `[0, 1]²`:
 /// `Σ c[i][j] B_i^3(x) B_j^3(y)`.
@@ -97,7 +98,8 @@ fn range_over(c: &Tensor3, x: [f64; 2], y: [f64; 2]) -> (f64, f64) {
             .iter()
             .flatten()
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
-                (lo.min(v), hi.max(v))
+                // Running extremes from ±∞: never NaN.
+                (min_not_nan(lo, v), max_not_nan(hi, v))
             });
     }
     restricted_range(c, x, y)
@@ -109,8 +111,9 @@ fn restricted_range(c: &Tensor3, x: [f64; 2], y: [f64; 2]) -> (f64, f64) {
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
     for j in 0..4 {
         for v in restrict1([rows[0][j], rows[1][j], rows[2][j], rows[3][j]], x[0], x[1]) {
-            lo = lo.min(v);
-            hi = hi.max(v);
+            // Running extremes from ±∞ (a NaN `v` is skipped, as by `f64::min`).
+            lo = min_not_nan(lo, v);
+            hi = max_not_nan(hi, v);
         }
     }
     (lo, hi)
