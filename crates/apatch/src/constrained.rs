@@ -11,6 +11,7 @@
 //! deciding them again.
 
 use crate::rowspace::RowBasis;
+use algesurf_bb::extremes::max_not_nan;
 
 mod plan;
 #[cfg(test)]
@@ -336,7 +337,7 @@ fn force_determined_unknowns(
         let s = cascade.free.len();
         let (mut v, mut wmax) = (r, 0.0f64);
         for &(j, w) in terms {
-            wmax = wmax.max(w.abs());
+            wmax = max_not_nan(wmax, w.abs());
             let c = class_of[j];
             match cascade.class_fixed[c] {
                 Some(x) => v -= w * fixed[j].unwrap_or(x),

@@ -16,6 +16,7 @@ use crate::geometry::{exact_barycentric, gradient_from_partials, value_gradient_
 use crate::rational::edge_term;
 use crate::surface::no_tetrahedron_on;
 use crate::{ApatchError, FaceCubic, FaceFunction};
+use algesurf_bb::extremes::max_not_nan;
 use algesurf_bb::sheet::square::Tensor3;
 use algesurf_bb::{BbPoly, Tetrahedron};
 use algesurf_hull::Side;
@@ -275,8 +276,9 @@ impl EdgeCubic {
             Verts::new([bary(ul), bary(pi), bary(pj), bary(uk)])
         };
         let (vk, vl) = (verts(tk), verts(tl));
-        let norm = |c: &cubic::Coeffs| c.iter().map(|x| x.abs()).fold(0.0, f64::max);
-        let scale = norm(pk).max(norm(pl)).max(f64::MIN_POSITIVE);
+        // Running extremes from 0 (`algesurf_bb::extremes`): the same values as `f64::max`.
+        let norm = |c: &cubic::Coeffs| c.iter().map(|x| x.abs()).fold(0.0, max_not_nan);
+        let scale = max_not_nan(max_not_nan(norm(pk), norm(pl)), f64::MIN_POSITIVE);
         let mut coeffs = [0.0; 20];
         let mut mismatch: f64 = 0.0;
         let mut rational = [[0.0; 2]; 2];
@@ -290,7 +292,7 @@ impl EdgeCubic {
                 }
                 _ => match (from_k, from_l) {
                     (Some(k), Some(l)) => {
-                        mismatch = mismatch.max((k - l).abs() / scale);
+                        mismatch = max_not_nan(mismatch, (k - l).abs() / scale);
                         *slot = k;
                     }
                     (Some(k), None) => *slot = k,

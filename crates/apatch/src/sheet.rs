@@ -22,6 +22,7 @@
 //! maximum, kept for comparison.
 
 use algesurf_bb::BbPoly;
+use algesurf_bb::extremes::{max_not_nan, min_not_nan};
 use algesurf_bb::sheet::{
     b_min_1_upper_from_minima, certified_triangle_b_min_below, lemma_2_3_b_min,
 };
@@ -68,7 +69,7 @@ pub fn lifted_b_min(base: [f64; 4], lift: [f64; 4]) -> Option<f64> {
 pub fn lifted_b_min_above(base: [f64; 4], lift: [f64; 4], floor: f64) -> Option<f64> {
     let [b0, b1, b2, b3] = base;
     let [l0, l1, c2, c3] = lift;
-    let scale = lift.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let scale = lift.iter().fold(0.0f64, |m, x| max_not_nan(m, x.abs()));
     // The lift's layers 0 and 1 vanish exactly in exact arithmetic; 1e-12 of its size allows
     // for the rounding of the blossoms that produce it.
     if b0 >= 0.0
@@ -183,7 +184,7 @@ pub fn certified_face_bound(
 ) -> f64 {
     // (4.14): layer 2 carries f/3, the apex f; remove them like `without_apex`.
     let off = [0.0, 0.0, apex_value / 3.0, apex_value];
-    let low = rational.map(|r| r.iter().map(|x| sign * x).fold(f64::INFINITY, f64::min));
+    let low = rational.map(|r| r.iter().map(|x| sign * x).fold(f64::INFINITY, min_not_nan));
     // The whole face first, without building its layers: the root cell's minima are the
     // layers' least coefficients (the blossom at the triangle's own corners is exact), so
     // this is bit for bit the value at which `certified_triangle_b_min_below` would stop at
@@ -253,7 +254,7 @@ mod tests {
                     [0.0; 4]
                 });
             let off = [0.0, 0.0, apex / 3.0, apex];
-            let low = rational.map(|r| r.iter().map(|x| sign * x).fold(f64::INFINITY, f64::min));
+            let low = rational.map(|r| r.iter().map(|x| sign * x).fold(f64::INFINITY, min_not_nan));
             let slow = certified_triangle_b_min_below(
                 base_layers(&poly, off, sign, low),
                 |_| [0.0; 4],

@@ -140,7 +140,11 @@ impl<C: Coeff, const N: usize> BbPoly<C, N> {
 
     /// Largest coefficient norm: the scale of relative tolerances.
     pub fn max_coeff_norm(&self) -> f64 {
-        self.coeffs.iter().map(|c| c.norm()).fold(0.0, f64::max)
+        // A running extreme from 0 (`crate::extremes`): the same value as `f64::max`.
+        self.coeffs
+            .iter()
+            .map(|c| c.norm())
+            .fold(0.0, crate::extremes::max_not_nan)
     }
 
     /// One de Casteljau step with the (homogeneous) argument `a`: the degree n−1 polynomial

@@ -9,6 +9,7 @@
 //! computed once, in closed form, so each conversion costs a few dot products.
 
 use crate::BbError;
+use crate::extremes::max_not_nan;
 use glam::{DVec2, DVec3};
 
 /// Relative degeneracy threshold: a simplex whose measure `sqrt(det EᵀE)` is below
@@ -64,7 +65,9 @@ impl<const N: usize> Simplex<N> {
         let mut longest: f64 = 0.0;
         for a in 0..N {
             for b in a + 1..N {
-                longest = longest.max(vertices[a].distance(vertices[b]));
+                // A running extreme from 0: never NaN (a NaN distance is skipped, as by
+                // `f64::max`; non-finite vertices were refused above).
+                longest = max_not_nan(longest, vertices[a].distance(vertices[b]));
             }
         }
         // Dual vectors in closed form (rows of E⁻¹ as cross products over the determinant for

@@ -5,6 +5,7 @@ use super::{
     Classes, FORCE_PIVOT, PivotTest, RowKind, Step, System, force_determined_unknowns,
     nearest_classes, nearest_solution, pair_pivot,
 };
+use algesurf_bb::extremes::max_not_nan;
 use std::cell::RefCell;
 use std::rc::Rc;
 
@@ -422,7 +423,10 @@ impl Replay {
 
 /// The largest weight of the terms `terms[s..e]` of `sys` (a row's), as the cascade takes it.
 fn largest_weight(sys: &System, (s, e): (usize, usize)) -> f64 {
-    sys.terms[s..e].iter().fold(0.0f64, |m, t| m.max(t.1.abs()))
+    // A running extreme from 0 (`algesurf_bb::extremes`): the same value as `f64::max`.
+    sys.terms[s..e]
+        .iter()
+        .fold(0.0f64, |m, t| max_not_nan(m, t.1.abs()))
 }
 
 /// How many plans each thread keeps ([`solve`]), most recently used first. Spot's 2 956 split
