@@ -254,7 +254,7 @@ mod tests {
                     [0.0; 4]
                 });
             let off = [0.0, 0.0, apex / 3.0, apex];
-            let low = rational.map(|r| r.iter().map(|x| sign * x).fold(f64::INFINITY, min_not_nan));
+            let low = rational.map(|r| r.iter().map(|x| sign * x).fold(f64::INFINITY, f64::min));
             let slow = certified_triangle_b_min_below(
                 base_layers(&poly, off, sign, low),
                 |_| [0.0; 4],

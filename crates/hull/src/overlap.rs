@@ -62,13 +62,14 @@ fn vmax(a: DVec3, b: DVec3) -> DVec3 {
     )
 }
 
-/// The bounding box of a tetrahedron's vertices, `(min, max)` (finite vertices: the running
-/// extremes start at the first one, so [`min_not_nan`] applies).
+/// The bounding box of a tetrahedron's vertices, `(min, max)`. Once per tetrahedron, so with
+/// `f64`'s own min and max: a NaN coordinate of a vertex given to the public tests is skipped
+/// as before (the hull's tetrahedra are finite).
 pub(crate) fn tet_box(v: &[DVec3; 4]) -> (DVec3, DVec3) {
     let (mut lo, mut hi) = (v[0], v[0]);
     for p in &v[1..] {
-        lo = vmin(lo, *p);
-        hi = vmax(hi, *p);
+        lo = lo.min(*p);
+        hi = hi.max(*p);
     }
     (lo, hi)
 }
@@ -77,7 +78,10 @@ pub(crate) fn tet_box(v: &[DVec3; 4]) -> (DVec3, DVec3) {
 /// two tetrahedra's own boxes it is the same number as from their eight vertices (min and
 /// max are exact), which lets the pair test read it off the boxes a tree already holds.
 pub(crate) fn common_diagonal(a: &(DVec3, DVec3), b: &(DVec3, DVec3)) -> f64 {
-    // Boxes of finite tetrahedra ([`tet_box`]): no NaN for [`min_not_nan`].
+    // Per candidate pair, so in one comparison per corner. A box corner is NaN only where all
+    // four vertices of a tetrahedron given to the public tests are NaN in that coordinate (the
+    // hull's tetrahedra are finite); the diagonal is then NaN, and [`depth_until`] answers 0
+    // for it as for any non-finite `D`.
     (vmax(a.1, b.1) - vmin(a.0, b.0)).length()
 }
 
