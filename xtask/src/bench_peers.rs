@@ -172,8 +172,9 @@ fn obj_counts(mesh: &Path) -> Result<(u64, u64)> {
     Ok((faces, edges.len() as u64))
 }
 
-/// `cargo xtask bench smooth [--mesh PATH]`.
-pub fn smooth(root: &Path, args: &[String]) -> Result<()> {
+/// The benchmark mesh: the path after `--mesh`, else `stanford-bunny.obj` from
+/// `$ALGESURF_CORPUS` (default `../shared/data`); an error if it is not a file.
+pub fn bench_mesh(root: &Path, args: &[String]) -> Result<PathBuf> {
     let mesh = match args.iter().position(|a| a == "--mesh") {
         Some(i) => PathBuf::from(args.get(i + 1).ok_or("--mesh needs a path")?),
         None => {
@@ -189,21 +190,36 @@ pub fn smooth(root: &Path, args: &[String]) -> Result<()> {
             mesh.display()
         ));
     }
+    Ok(mesh)
+}
+
+/// `cargo build --release -p algesurf-cli`.
+pub fn build_release_cli(root: &Path) -> Result<()> {
     let mut build = Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()));
     build
         .current_dir(root)
         .args(["build", "--release", "-p", "algesurf-cli"]);
-    crate::run(build)?;
+    crate::run(build)
+}
 
-    // Face patches give n² triangles, edge patches 2m(n − 1) (the two columns at the mesh
-    // vertices collapse): pick the (n, m), m ≤ n, with the fewest triangles ≥ TRIANGLES.
-    let (faces, edges) = obj_counts(&mesh)?;
+/// The resolution `(n, m)`, `m ≤ n`, estimated to give the fewest triangles ≥ [`TRIANGLES`]:
+/// face patches give n² triangles, edge patches 2m(n − 1) (the two columns at the mesh
+/// vertices collapse).
+pub fn estimated_resolution(mesh: &Path) -> Result<(u32, u32)> {
+    let (faces, edges) = obj_counts(mesh)?;
     let estimate = |n: u64, m: u64| faces * n * n + 2 * edges * m * (n - 1);
-    let (mut n, mut m) = (1..=64u64)
+    Ok((1..=64u64)
         .flat_map(|n| (1..=n).map(move |m| (n, m)))
         .filter(|&(n, m)| estimate(n, m) >= TRIANGLES)
         .min_by_key(|&(n, m)| (estimate(n, m), n))
-        .map_or((64, 64), |(n, m)| (n as u32, m as u32));
+        .map_or((64, 64), |(n, m)| (n as u32, m as u32)))
+}
+
+/// `cargo xtask bench smooth [--mesh PATH]`.
+pub fn smooth(root: &Path, args: &[String]) -> Result<()> {
+    let mesh = bench_mesh(root, args)?;
+    build_release_cli(root)?;
+    let (mut n, mut m) = estimated_resolution(&mesh)?;
     // An algesurf failure (e.g. a mesh the hull rejects) is reported after libigl's time.
     let ours = (|| -> Result<f64> {
         let mut report = algesurf_run(root, &mesh, n, m)?;
@@ -257,6 +273,7 @@ pub fn smooth(root: &Path, args: &[String]) -> Result<()> {
     let Some(python) = venv_python(root)? else {
         return ours.map(|_| ());
     };
+    let (faces, _) = obj_counts(&mesh)?;
     let mut levels = 0u32;
     while faces * 4u64.pow(levels) < TRIANGLES {
         levels += 1;

@@ -9,10 +9,14 @@
 //! * `bench smooth [--mesh PATH] [--no-divan]`: the `smooth` divan benchmarks, then the bunny
 //!   (or PATH) smoothed by the release `algesurf smooth` and timed against libigl's Loop
 //!   subdivision in the same run (see [`bench_peers`]).
+//! * `bench instructions [--mesh PATH] [--top N]`: the same `algesurf smooth` run counted in
+//!   instructions by valgrind's cachegrind, in total and per function (see [`instructions`]):
+//!   what does not move with the machine's load.
 //! * `figures`: regenerates the paper's figures into `docs/figures/` (see [`figures`]).
 
 mod bench_peers;
 mod figures;
+mod instructions;
 mod interop;
 
 use sha2::{Digest, Sha256};
@@ -106,6 +110,9 @@ fn dist() -> Result<()> {
 }
 
 fn bench(args: &[String]) -> Result<()> {
+    if args.first().map(String::as_str) == Some("instructions") {
+        return instructions::run(&root(), &args[1..]);
+    }
     let skip_divan = args.iter().any(|a| a == "--no-divan");
     if !skip_divan {
         let mut b = cargo();
@@ -131,7 +138,7 @@ fn main() -> ExitCode {
         Some("figures") => figures::run(&root()).map_err(|e| e.to_string()),
         _ => {
             eprintln!(
-                "usage: cargo xtask <ci | interop | dist | figures | bench [bb|roots|smooth [--mesh PATH] [--no-divan]]>"
+                "usage: cargo xtask <ci | interop | dist | figures | bench [bb|roots|smooth [--mesh PATH] [--no-divan]] | bench instructions [--mesh PATH] [--top N]>"
             );
             return ExitCode::from(2);
         }
