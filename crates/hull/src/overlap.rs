@@ -42,24 +42,10 @@ pub(crate) fn depth_beyond(a: &[DVec3; 4], b: &[DVec3; 4], stop: f64) -> f64 {
     )
 }
 
-/// [`min_not_nan`] per component.
+/// `f` per component of `a` and `b` ([`min_not_nan`] or [`max_not_nan`] of two box corners).
 #[inline(always)]
-fn vmin(a: DVec3, b: DVec3) -> DVec3 {
-    DVec3::new(
-        min_not_nan(a.x, b.x),
-        min_not_nan(a.y, b.y),
-        min_not_nan(a.z, b.z),
-    )
-}
-
-/// [`max_not_nan`] per component.
-#[inline(always)]
-fn vmax(a: DVec3, b: DVec3) -> DVec3 {
-    DVec3::new(
-        max_not_nan(a.x, b.x),
-        max_not_nan(a.y, b.y),
-        max_not_nan(a.z, b.z),
-    )
+fn per_component(a: DVec3, b: DVec3, f: fn(f64, f64) -> f64) -> DVec3 {
+    DVec3::new(f(a.x, b.x), f(a.y, b.y), f(a.z, b.z))
 }
 
 /// The bounding box of a tetrahedron's vertices, `(min, max)`. Once per tetrahedron, so with
@@ -82,7 +68,7 @@ pub(crate) fn common_diagonal(a: &(DVec3, DVec3), b: &(DVec3, DVec3)) -> f64 {
     // four vertices of a tetrahedron given to the public tests are NaN in that coordinate (the
     // hull's tetrahedra are finite); the diagonal is then NaN, and [`depth_until`] answers 0
     // for it as for any non-finite `D`.
-    (vmax(a.1, b.1) - vmin(a.0, b.0)).length()
+    (per_component(a.1, b.1, max_not_nan) - per_component(a.0, b.0, min_not_nan)).length()
 }
 
 /// `D` of [`overlap_depth`] from the two tetrahedra's vertices.

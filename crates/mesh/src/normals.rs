@@ -295,27 +295,12 @@ pub fn face_cone_axis(mesh: &TriMesh, face_normals: &[DVec3], v: u32) -> Option<
 /// `m`'s minimum is kept instead of recomputed per step. The fold check of `repair` runs this
 /// at every vertex that fails a quick test: Suzanne's repair took 35–40 ms, now 23–26 ms.
 pub fn cone_axis(normals: &[DVec3]) -> Option<(DVec3, f64)> {
-    let fn_: Vec<DVec3> = normals
-        .iter()
-        .copied()
-        .filter(|n| n.length_squared() > 0.0)
-        .collect();
-    if fn_.is_empty() {
-        return None;
-    }
+    let (fn_, mut m) = cone_start(normals)?;
     let worst = |n: DVec3| fn_.iter().map(|f| f.dot(n)).fold(f64::INFINITY, f64::min);
-    let mut m = fn_.iter().copied().sum::<DVec3>().normalize_or_zero();
-    if m == DVec3::ZERO {
-        m = fn_[0];
-    }
     let mut worst_m = worst(m);
     let mut step = 0.5;
     for _ in 0..200 {
-        let f = fn_
-            .iter()
-            .copied()
-            .min_by(|a, b| a.dot(m).total_cmp(&b.dot(m)))
-            .expect("non-empty");
+        let f = steepest(&fn_, m);
         let moved = m + (f - m * f.dot(m)) * step;
         let cand = moved.normalize_or_zero();
         let worst_cand = worst(cand);
@@ -328,6 +313,28 @@ pub fn cone_axis(normals: &[DVec3]) -> Option<(DVec3, f64)> {
         }
     }
     Some((m, worst_m))
+}
+
+/// The start of [`cone_axis`]'s search: the non-zero normals, and the normalised sum of them
+/// (the first of them if that sum vanishes). `None` when every normal is zero.
+fn cone_start(normals: &[DVec3]) -> Option<(Vec<DVec3>, DVec3)> {
+    let fn_: Vec<DVec3> = normals
+        .iter()
+        .copied()
+        .filter(|n| n.length_squared() > 0.0)
+        .collect();
+    let first = *fn_.first()?;
+    let m = fn_.iter().copied().sum::<DVec3>().normalize_or_zero();
+    Some((fn_, if m == DVec3::ZERO { first } else { m }))
+}
+
+/// The normal of `fn_` (non-empty) that makes the widest angle with `m`: the one a step of
+/// [`cone_axis`] turns the axis towards.
+fn steepest(fn_: &[DVec3], m: DVec3) -> DVec3 {
+    fn_.iter()
+        .copied()
+        .min_by(|a, b| a.dot(m).total_cmp(&b.dot(m)))
+        .expect("non-empty")
 }
 
 /// The unit face normals of `mesh` (zero for degenerate faces): [`TriMesh::face_normal`] is
@@ -384,26 +391,12 @@ mod tests {
 
     /// [`cone_axis`] as it was: all 200 steps, each step's minima recomputed.
     fn cone_axis_all_steps(normals: &[DVec3]) -> Option<(DVec3, f64)> {
-        let fn_: Vec<DVec3> = normals
-            .iter()
-            .copied()
-            .filter(|n| n.length_squared() > 0.0)
-            .collect();
-        if fn_.is_empty() {
-            return None;
-        }
+        // The same start and step direction as `cone_axis`: what changed is the loop.
+        let (fn_, mut m) = cone_start(normals)?;
         let worst = |n: DVec3| fn_.iter().map(|f| f.dot(n)).fold(f64::INFINITY, f64::min);
-        let mut m = fn_.iter().copied().sum::<DVec3>().normalize_or_zero();
-        if m == DVec3::ZERO {
-            m = fn_[0];
-        }
         let mut step = 0.5;
         for _ in 0..200 {
-            let f = fn_
-                .iter()
-                .copied()
-                .min_by(|a, b| a.dot(m).total_cmp(&b.dot(m)))
-                .expect("non-empty");
+            let f = steepest(&fn_, m);
             let cand = (m + (f - m * f.dot(m)) * step).normalize_or_zero();
             if worst(cand) > worst(m) {
                 m = cand;
