@@ -150,7 +150,7 @@ fn algesurf_run(root: &Path, mesh: &Path, n: u32, m: u32) -> Result<serde_json::
 }
 
 /// Faces and edges of a triangle mesh in OBJ (`v`/`f` lines; polygons count as fans).
-fn obj_counts(mesh: &Path) -> Result<(u64, u64)> {
+pub fn obj_counts(mesh: &Path) -> Result<(u64, u64)> {
     let text = std::fs::read_to_string(mesh)
         .map_err(|e| format!("cannot read {}: {e}", mesh.display()))?;
     let mut faces = 0u64;
@@ -204,22 +204,23 @@ pub fn build_release_cli(root: &Path) -> Result<()> {
 
 /// The resolution `(n, m)`, `m ≤ n`, estimated to give the fewest triangles ≥ [`TRIANGLES`]:
 /// face patches give n² triangles, edge patches 2m(n − 1) (the two columns at the mesh
-/// vertices collapse).
-pub fn estimated_resolution(mesh: &Path) -> Result<(u32, u32)> {
-    let (faces, edges) = obj_counts(mesh)?;
+/// vertices collapse). `faces` and `edges`: the mesh's counts ([`obj_counts`]).
+pub fn estimated_resolution(faces: u64, edges: u64) -> (u32, u32) {
     let estimate = |n: u64, m: u64| faces * n * n + 2 * edges * m * (n - 1);
-    Ok((1..=64u64)
+    (1..=64u64)
         .flat_map(|n| (1..=n).map(move |m| (n, m)))
         .filter(|&(n, m)| estimate(n, m) >= TRIANGLES)
         .min_by_key(|&(n, m)| (estimate(n, m), n))
-        .map_or((64, 64), |(n, m)| (n as u32, m as u32)))
+        .map_or((64, 64), |(n, m)| (n as u32, m as u32))
 }
 
 /// `cargo xtask bench smooth [--mesh PATH]`.
 pub fn smooth(root: &Path, args: &[String]) -> Result<()> {
     let mesh = bench_mesh(root, args)?;
     build_release_cli(root)?;
-    let (mut n, mut m) = estimated_resolution(&mesh)?;
+    // One read of the OBJ for both sides' sizes.
+    let (faces, edges) = obj_counts(&mesh)?;
+    let (mut n, mut m) = estimated_resolution(faces, edges);
     // An algesurf failure (e.g. a mesh the hull rejects) is reported after libigl's time.
     let ours = (|| -> Result<f64> {
         let mut report = algesurf_run(root, &mesh, n, m)?;
@@ -273,7 +274,6 @@ pub fn smooth(root: &Path, args: &[String]) -> Result<()> {
     let Some(python) = venv_python(root)? else {
         return ours.map(|_| ());
     };
-    let (faces, _) = obj_counts(&mesh)?;
     let mut levels = 0u32;
     while faces * 4u64.pow(levels) < TRIANGLES {
         levels += 1;

@@ -23,7 +23,7 @@ use std::path::Path;
 use std::process::Command;
 
 use crate::Result;
-use crate::bench_peers::{bench_mesh, build_release_cli, estimated_resolution};
+use crate::bench_peers::{bench_mesh, build_release_cli, estimated_resolution, obj_counts};
 
 /// Functions listed when `--top` is not given.
 const DEFAULT_TOP: usize = 25;
@@ -45,7 +45,8 @@ pub fn run(root: &Path, args: &[String]) -> Result<()> {
         }
     }
     build_release_cli(root)?;
-    let (n, m) = estimated_resolution(&mesh)?;
+    let (faces, edges) = obj_counts(&mesh)?;
+    let (n, m) = estimated_resolution(faces, edges);
     let dir = root.join("target/bench-smooth");
     std::fs::create_dir_all(&dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
     let counts = dir.join("cachegrind.out");
