@@ -20,20 +20,32 @@ pub(crate) use plan::solve;
 
 /// Sparse constraint rows `Σ w_j x_j = rhs`, stored flat (one allocation for all terms: a
 /// split face has about 200 rows).
+///
+/// The terms' unknowns and weights are two arrays, not one of pairs: a `plan::Plan` checks
+/// that a system has its pattern, which is then `starts` and `cols` compared as two blocks of
+/// integers (`memcmp`) instead of term by term: `Plan::fits` went from ~10 k to ~6 k
+/// instructions a split face (bunny, `cachegrind`: a second `fits` per face cost 540 M
+/// instructions before, 326 M after).
 pub(crate) struct System {
-    /// `(j, w_j)` of every row, row after row.
-    pub(crate) terms: Vec<(usize, f64)>,
-    /// Row `i`'s terms are `terms[starts[i]..starts[i + 1]]`.
+    /// Every term's unknown `j`, row after row.
+    pub(crate) cols: Vec<usize>,
+    /// Every term's weight `w_j`, in the order of `cols`.
+    pub(crate) weights: Vec<f64>,
+    /// Row `i`'s terms are `cols[starts[i]..starts[i + 1]]` with those `weights`.
     pub(crate) starts: Vec<usize>,
     pub(crate) rhs: Vec<f64>,
 }
+
+/// One row of a [`System`]: its terms' unknowns, their weights (as long) and its right side.
+pub(crate) type Row<'a> = (&'a [usize], &'a [f64], f64);
 
 impl System {
     pub(crate) fn with_capacity(rows: usize, terms: usize) -> Self {
         let mut starts = Vec::with_capacity(rows + 1);
         starts.push(0);
         System {
-            terms: Vec::with_capacity(terms),
+            cols: Vec::with_capacity(terms),
+            weights: Vec::with_capacity(terms),
             starts,
             rhs: Vec::with_capacity(rows),
         }
@@ -41,43 +53,59 @@ impl System {
 
     /// Empties the system, keeping its allocations (see `split`'s reuse of one per thread).
     pub(crate) fn clear(&mut self) {
-        self.terms.clear();
+        self.cols.clear();
+        self.weights.clear();
         self.starts.truncate(1);
         self.rhs.clear();
     }
 
+    /// Appends the row `Σ w_j x_j = rhs` with `terms` its `(j, w_j)`.
+    #[inline]
     pub(crate) fn push(&mut self, terms: impl IntoIterator<Item = (usize, f64)>, rhs: f64) {
-        self.terms.extend(terms);
-        self.starts.push(self.terms.len());
+        for (j, w) in terms {
+            self.cols.push(j);
+            self.weights.push(w);
+        }
+        self.starts.push(self.cols.len());
         self.rhs.push(rhs);
     }
 
-    /// [`System::push`] of a row whose terms are at hand in a slice: one copy. Extending by
-    /// a filtered iterator (no exact length) checked the capacity term by term, ~170
-    /// instructions a row for the split faces' 16 rows per join (`cachegrind`, bunny).
-    pub(crate) fn push_slice(&mut self, terms: &[(usize, f64)], rhs: f64) {
-        self.terms.extend_from_slice(terms);
-        self.starts.push(self.terms.len());
+    /// [`System::push`] of a row whose unknowns and weights are at hand in slices (of equal
+    /// length): one capacity check per array. Extending by a filtered iterator (no exact
+    /// length) checked the capacity term by term, ~170 instructions a row for the split faces'
+    /// 16 rows per join (`cachegrind`, bunny); `extend_from_slice` calls `memcpy`, ~30
+    /// instructions for the 2–10 terms of a row, where a slice iterator's `extend` (exact
+    /// length) writes them in a loop.
+    ///
+    /// # Panics
+    /// If `cols` and `weights` differ in length (a bug in the caller).
+    #[inline]
+    pub(crate) fn push_slice(&mut self, cols: &[usize], weights: &[f64], rhs: f64) {
+        assert_eq!(cols.len(), weights.len(), "one weight per unknown");
+        self.cols.extend(cols.iter().copied());
+        self.weights.extend(weights.iter().copied());
+        self.starts.push(self.cols.len());
         self.rhs.push(rhs);
     }
 
-    /// The rows as `(terms, rhs)`.
-    pub(crate) fn rows(&self) -> impl Iterator<Item = (&[(usize, f64)], f64)> + '_ {
+    /// The rows as `(unknowns, weights, rhs)`.
+    pub(crate) fn rows(&self) -> impl Iterator<Item = Row<'_>> + '_ {
         self.starts
             .windows(2)
             .zip(&self.rhs)
-            .map(|(w, r)| (&self.terms[w[0]..w[1]], *r))
+            .map(|(w, r)| (&self.cols[w[0]..w[1]], &self.weights[w[0]..w[1]], *r))
     }
 
-    /// Row `i` as `(terms, rhs)`.
+    /// Row `i` as `(unknowns, weights, rhs)`.
     #[inline]
-    fn row(&self, i: usize) -> (&[(usize, f64)], f64) {
-        (&self.terms[self.starts[i]..self.starts[i + 1]], self.rhs[i])
+    fn row(&self, i: usize) -> Row<'_> {
+        let (s, e) = (self.starts[i], self.starts[i + 1]);
+        (&self.cols[s..e], &self.weights[s..e], self.rhs[i])
     }
 
     /// What each row is to the eliminations (see [`RowKind`]).
     fn kinds(&self) -> impl Iterator<Item = RowKind> + '_ {
-        self.rows().map(|(terms, r)| RowKind::of(terms, r))
+        self.rows().map(|(_, ws, r)| RowKind::of(ws, r))
     }
 }
 
@@ -93,10 +121,11 @@ enum RowKind {
 }
 
 impl RowKind {
-    fn of(terms: &[(usize, f64)], rhs: f64) -> RowKind {
-        match terms {
+    /// The kind of a row with these weights (one per term) and right side.
+    fn of(weights: &[f64], rhs: f64) -> RowKind {
+        match weights {
             [_] => RowKind::Single,
-            [(_, a), (_, b)] if *a == 1.0 && *b == -1.0 && rhs == 0.0 => RowKind::Equality,
+            [a, b] if *a == 1.0 && *b == -1.0 && rhs == 0.0 => RowKind::Equality,
             _ => RowKind::Coupled,
         }
     }
@@ -315,7 +344,7 @@ fn force_determined_unknowns(
     fixed: &[Option<f64>],
     class_fixed: &mut [Option<f64>],
 ) -> Cascaded {
-    let rows: Vec<(&[(usize, f64)], f64)> = ids.iter().map(|&i| sys.row(i)).collect();
+    let rows: Vec<Row<'_>> = ids.iter().map(|&i| sys.row(i)).collect();
     let nr = rows.len();
     let n = class_of.len();
     let mut cascade = Cascade {
@@ -333,10 +362,10 @@ fn force_determined_unknowns(
         steps: Vec::new(),
         tests: Vec::new(),
     };
-    for (i, &(terms, r)) in rows.iter().enumerate() {
+    for (i, &(cols, ws, r)) in rows.iter().enumerate() {
         let s = cascade.free.len();
         let (mut v, mut wmax) = (r, 0.0f64);
-        for &(j, w) in terms {
+        for (&j, &w) in cols.iter().zip(ws) {
             wmax = max_not_nan(wmax, w.abs());
             let c = class_of[j];
             match cascade.class_fixed[c] {
@@ -441,15 +470,14 @@ impl Classes {
         let mut fixed: Vec<Option<f64>> = vec![None; n];
         let mut parent: Vec<usize> = (0..n).collect();
         let (mut singles, mut coupled) = (Vec::new(), Vec::new());
-        for (i, ((terms, r), kind)) in sys.rows().zip(sys.kinds()).enumerate() {
+        for (i, ((cols, ws, r), kind)) in sys.rows().zip(sys.kinds()).enumerate() {
             match kind {
                 RowKind::Single => {
-                    let (j, w) = terms[0];
-                    fixed[j] = Some(r / w);
+                    fixed[cols[0]] = Some(r / ws[0]);
                     singles.push(i);
                 }
                 RowKind::Equality => {
-                    let (a, b) = (find(&mut parent, terms[0].0), find(&mut parent, terms[1].0));
+                    let (a, b) = (find(&mut parent, cols[0]), find(&mut parent, cols[1]));
                     let (lo, hi) = (a.min(b), a.max(b));
                     parent[hi] = lo;
                 }
@@ -559,7 +587,7 @@ fn dense_solve(
     for (j, &c) in class_of.iter().enumerate() {
         tsum[c] += target[j];
     }
-    let coupled: Vec<(&[(usize, f64)], f64)> = dense.iter().map(|&i| sys.row(i)).collect();
+    let coupled: Vec<Row<'_>> = dense.iter().map(|&i| sys.row(i)).collect();
     let mut col = vec![usize::MAX; n];
     let mut classes = Vec::new();
     for c in 0..n {
@@ -579,9 +607,9 @@ fn dense_solve(
     // Dense row-major m × nf in the unknowns y (unscaled), and the reduced right-hand side.
     let mut a_mat = vec![0.0; m * nf];
     let mut rhs = vec![0.0; m];
-    for (i, &(terms, r)) in coupled.iter().enumerate() {
+    for (i, &(cols, ws, r)) in coupled.iter().enumerate() {
         let mut v = r;
-        for &(j, w) in terms {
+        for (&j, &w) in cols.iter().zip(ws) {
             let c = class_of[j];
             match class_fixed[c] {
                 Some(x) => v -= w * fixed[j].unwrap_or(x),
@@ -656,7 +684,7 @@ impl System {
         let mut start = 0;
         for (&end, &r) in self.starts[1..].iter().zip(&self.rhs) {
             let mut dot = 0.0;
-            for &(j, w) in &self.terms[start..end] {
+            for (&j, &w) in self.cols[start..end].iter().zip(&self.weights[start..end]) {
                 dot += w * x[j];
             }
             start = end;

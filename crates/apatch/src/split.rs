@@ -72,20 +72,28 @@ impl System {
             "the tetrahedra share the pattern's face"
         );
         let v = snap_rounding_zeros(exact_barycentric(a, b.vertex(pattern.opp)));
+        // The C1 rows' terms of A: the same for every row but for A's coefficient, so the
+        // non-zero ones are picked out once per join.
+        let mut up_terms = [(0usize, 0.0f64); 4];
+        let mut len = 0;
+        for k in 0..4 {
+            if v[k] != 0.0 {
+                up_terms[len] = (k, -v[k]);
+                len += 1;
+            }
+        }
+        let up_terms = &up_terms[..len];
         for &(rank, join_row) in &pattern.rows {
-            let row = (ib * 20 + rank, 1.0);
+            let row = ib * 20 + rank;
             match join_row {
-                JoinRow::C0(mu) => self.push_slice(&[row, (ia * 20 + mu, -1.0)], 0.0),
+                JoinRow::C0(mu) => self.push_slice(&[row, ia * 20 + mu], &[1.0, -1.0], 0.0),
                 JoinRow::C1(up) => {
-                    let mut terms = [row; 5];
-                    let mut len = 1;
-                    for k in 0..4 {
-                        if v[k] != 0.0 {
-                            terms[len] = (ia * 20 + up[k], -v[k]);
-                            len += 1;
-                        }
+                    let (mut cols, mut weights) = ([row; 5], [1.0; 5]);
+                    for (t, &(k, w)) in up_terms.iter().enumerate() {
+                        cols[t + 1] = ia * 20 + up[k];
+                        weights[t + 1] = w;
                     }
-                    self.push_slice(&terms[..len], 0.0);
+                    self.push_slice(&cols[..=len], &weights[..=len], 0.0);
                 }
             }
         }
@@ -207,15 +215,16 @@ fn constraints(
                 // D_d F(m) = 3 b[d, m, m] at m = (p_b + p_c)/2, the first edge's midpoint
                 // (see `cubic`).
                 let weights = cubic::first_edge_midpoint_weights(dir).map(|w| 3.0 * w);
-                let mut terms = [(0usize, 0.0f64); 20];
+                let (mut cols, mut ws) = ([0usize; 20], [0.0f64; 20]);
                 let mut len = 0;
                 for (r, &w) in weights.iter().enumerate() {
                     if w != 0.0 {
-                        terms[len] = (ti * 20 + r, w);
+                        cols[len] = ti * 20 + r;
+                        ws[len] = w;
                         len += 1;
                     }
                 }
-                sys.push_slice(&terms[..len], d.dot(g));
+                sys.push_slice(&cols[..len], &ws[..len], d.dot(g));
             }
             // Free parameter at the apex.
             sys.push([(ti * 20 + 19, 1.0)], f[side]);

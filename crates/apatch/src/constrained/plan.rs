@@ -21,10 +21,12 @@ use std::rc::Rc;
 /// cascade's, on that system), so the result is a function of the system alone, whichever face
 /// recorded the plan and whatever the thread count.
 struct Plan {
-    /// The pattern: row starts, every term's unknown, every row's kind.
+    /// The pattern: row starts, every term's unknown, and every row's kind, of which only the
+    /// two-term rows' are kept (`(row, kind)`, in row order): the others follow from the row
+    /// starts (see [`Plan::fits`]).
     starts: Vec<usize>,
     columns: Vec<usize>,
-    kinds: Vec<RowKind>,
+    two_term_kinds: Vec<(usize, RowKind)>,
     /// The number of unknowns.
     n: usize,
     /// The rows with one unknown, as in [`Classes`] (a function of the pattern).
@@ -49,7 +51,7 @@ struct Plan {
 /// A [`PivotTest`] with what it reads worked out once per plan: each summed weight of a class
 /// in a row is the sum of the terms `reads[s..e]` (`(s, e)`, into [`Plan`]'s `reads`: the
 /// row's terms of that class, in term order), and a row's largest weight is over its terms
-/// `terms[s..e]` of the system. Looking the classes up term by term for every test (`weight`)
+/// `weights[s..e]` of the system. Looking the classes up term by term for every test (`weight`)
 /// was 9 k instructions a split face (`callgrind`, bunny: 2.8 M reads of ~180 instructions).
 #[derive(Clone, Copy, Debug)]
 enum Check {
@@ -130,7 +132,7 @@ impl Plan {
         let mut read = |i: usize, c: usize| {
             let start = reads.len();
             for t in sys.starts[i]..sys.starts[i + 1] {
-                if classes.class_of[sys.terms[t].0] == c {
+                if classes.class_of[sys.cols[t]] == c {
                     reads.push(t);
                 }
             }
@@ -173,8 +175,15 @@ impl Plan {
         let replay = Replay::compile(sys, &classes, &cascaded.steps, &cascaded.dense);
         Plan {
             starts: sys.starts.clone(),
-            columns: sys.terms.iter().map(|t| t.0).collect(),
-            kinds: sys.kinds().collect(),
+            columns: sys.cols.clone(),
+            two_term_kinds: sys
+                .starts
+                .windows(2)
+                .zip(sys.kinds())
+                .enumerate()
+                .filter(|(_, (w, _))| w[1] - w[0] == 2)
+                .map(|(i, (_, kind))| (i, kind))
+                .collect(),
             #[cfg(test)]
             tests: cascaded.tests,
             checks,
@@ -192,7 +201,7 @@ impl Plan {
     fn weight(&self, sys: &System, (s, e): (usize, usize)) -> f64 {
         self.reads[s..e]
             .iter()
-            .fold(0.0, |w, &t| w + sys.terms[t].1)
+            .fold(0.0, |w, &t| w + sys.weights[t])
     }
 
     /// Whether `sys` (`n` unknowns) has this plan's pattern and every recorded pivot test has
@@ -201,19 +210,14 @@ impl Plan {
         // With equal row starts, a row's kind can differ only where it has two terms: one
         // term is always `Single` and three or more always `Coupled` (`RowKind::of`), so only
         // the two-term rows (a split face's C0 joins, about half of its rows) are classified
-        // again.
+        // again. The starts and the unknowns are integer slices, compared as blocks.
         let pattern = self.n == n
             && self.starts == sys.starts
-            && self.columns.iter().zip(&sys.terms).all(|(a, t)| *a == t.0)
-            && self
-                .starts
-                .windows(2)
-                .zip(&self.kinds)
-                .zip(&sys.rhs)
-                .all(|((w, &kind), &r)| {
-                    w[1] - w[0] != 2 || kind == RowKind::of(&sys.terms[w[0]..w[1]], r)
-                });
-        debug_assert!(!pattern || self.kinds.iter().copied().eq(sys.kinds()));
+            && self.columns == sys.cols
+            && self.two_term_kinds.iter().all(|&(i, kind)| {
+                let s = sys.starts[i];
+                kind == RowKind::of(&sys.weights[s..s + 2], sys.rhs[i])
+            });
         pattern
             && self.checks.iter().all(|c| match *c {
                 Check::Single { w, row, pass } => {
@@ -240,8 +244,8 @@ impl Plan {
         // Value slots: unknowns fixed by their single rows `0..n`, known classes `n..2n`.
         let mut vals = vec![0.0; 2 * n];
         for &i in &self.singles {
-            let (terms, r) = sys.row(i);
-            vals[terms[0].0] = r / terms[0].1;
+            let (cols, ws, r) = sys.row(i);
+            vals[cols[0]] = r / ws[0];
         }
         for &(c, j) in &rp.class_from_fixed {
             vals[n + c] = vals[j];
@@ -249,10 +253,10 @@ impl Plan {
         // Step row `k` with its known values moved to the right side: the summed weights of
         // the step's classes and the reduced right side.
         let reduce = |vals: &[f64], k: usize, row: usize| {
-            let (terms, r) = sys.row(row);
+            let (_, ws, r) = sys.row(row);
             let srcs = &rp.step_src[rp.step_start[k]..rp.step_start[k + 1]];
             let (mut wa, mut wb, mut v) = (0.0, 0.0, r);
-            for (&(_, w), &src) in terms.iter().zip(srcs) {
+            for (&w, &src) in ws.iter().zip(srcs) {
                 match src {
                     StepSrc::A => wa += w,
                     StepSrc::B => wb += w,
@@ -294,10 +298,10 @@ impl Plan {
         let mut a_mat = vec![0.0; m * nf];
         let mut rhs = vec![0.0; m];
         for (i, &row) in self.dense.iter().enumerate() {
-            let (terms, r) = sys.row(row);
+            let (_, ws, r) = sys.row(row);
             let srcs = &rp.dense_src[rp.dense_start[i]..rp.dense_start[i + 1]];
             let mut v = r;
-            for (&(_, w), &src) in terms.iter().zip(srcs) {
+            for (&w, &src) in ws.iter().zip(srcs) {
                 match src {
                     Src::Column(col) => a_mat[i * nf + col] += w,
                     Src::Known(slot) => v -= w * vals[slot],
@@ -327,7 +331,7 @@ impl Replay {
         let n = classes.class_of.len();
         let mut fixed = vec![false; n];
         for &i in &classes.singles {
-            fixed[sys.row(i).0[0].0] = true;
+            fixed[sys.row(i).0[0]] = true;
         }
         let mut known: Vec<bool> = classes.fixed_from.iter().map(Option::is_some).collect();
         let class_from_fixed = (0..n)
@@ -352,7 +356,7 @@ impl Replay {
                 } => (rows, pair),
             };
             for &row in rows.iter().filter(|&&r| r != usize::MAX) {
-                for &(j, _) in sys.row(row).0 {
+                for &j in sys.row(row).0 {
                     let c = classes.class_of[j];
                     step_src.push(if c == a {
                         StepSrc::A
@@ -400,7 +404,7 @@ impl Replay {
         };
         let (mut dense_src, mut dense_start) = (Vec::new(), vec![0]);
         for &i in dense {
-            dense_src.extend(sys.row(i).0.iter().map(|&(j, _)| src(j)));
+            dense_src.extend(sys.row(i).0.iter().map(|&j| src(j)));
             dense_start.push(dense_src.len());
         }
         Some(Replay {
@@ -421,12 +425,12 @@ impl Replay {
     }
 }
 
-/// The largest weight of the terms `terms[s..e]` of `sys` (a row's), as the cascade takes it.
+/// The largest weight of the terms `s..e` of `sys` (a row's), as the cascade takes it.
 fn largest_weight(sys: &System, (s, e): (usize, usize)) -> f64 {
     // A running extreme from 0 (`algesurf_bb::extremes`): the same value as `f64::max`.
-    sys.terms[s..e]
+    sys.weights[s..e]
         .iter()
-        .fold(0.0f64, |m, t| max_not_nan(m, t.1.abs()))
+        .fold(0.0f64, |m, w| max_not_nan(m, w.abs()))
 }
 
 /// How many plans each thread keeps ([`solve`]), most recently used first. Spot's 2 956 split
@@ -514,8 +518,19 @@ mod tests {
         assert_eq!(ps.dense, vec![2, 3, 4]);
         // Another pattern does not fit, nor another unknown count.
         let mut other = system(0.5);
-        other.terms[2].0 = 3;
+        other.cols[2] = 3;
         assert!(!pa.fits(&other, 5));
+        // The same pattern with a two-term row of another kind: row 1's weights no longer
+        // merge x1 and x2 (an equality needs exactly 1 and −1), so the cascade sees other
+        // classes.
+        let mut coupled = system(0.5);
+        coupled.weights[2] = -0.5;
+        assert!(!pa.fits(&coupled, 5));
+        coupled.weights[2] = -1.0;
+        coupled.rhs[1] = 0.25;
+        assert!(!pa.fits(&coupled, 5));
+        coupled.rhs[1] = 0.0;
+        assert!(pa.fits(&coupled, 5));
         assert!(!pa.fits(&a, 6));
     }
 
