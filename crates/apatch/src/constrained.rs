@@ -26,6 +26,12 @@ pub(crate) use plan::solve;
 /// integers (`memcmp`) instead of term by term: `Plan::fits` went from ~10 k to ~6 k
 /// instructions a split face (bunny, `cachegrind`: a second `fits` per face cost 540 M
 /// instructions before, 326 M after).
+///
+/// Conditions `x_i = x_j` known as such when they are made (the split faces' C0 joins, 90 of
+/// their ~210 conditions) are kept as pairs ([`System::push_equal`]), not rows: they only
+/// merge unknowns into classes, every row `x_i − x_j = 0` did the same ([`RowKind::Equality`]),
+/// and as pairs they cost neither two terms each in every row pass nor a place in the
+/// pattern's rows.
 pub(crate) struct System {
     /// Every term's unknown `j`, row after row.
     pub(crate) cols: Vec<usize>,
@@ -34,6 +40,8 @@ pub(crate) struct System {
     /// Row `i`'s terms are `cols[starts[i]..starts[i + 1]]` with those `weights`.
     pub(crate) starts: Vec<usize>,
     pub(crate) rhs: Vec<f64>,
+    /// Pairs `[i, j]` of unknowns constrained equal, `x_i − x_j = 0`, in the order given.
+    pub(crate) equal: Vec<[usize; 2]>,
 }
 
 /// One row of a [`System`]: its terms' unknowns, their weights (as long) and its right side.
@@ -48,6 +56,7 @@ impl System {
             weights: Vec::with_capacity(terms),
             starts,
             rhs: Vec::with_capacity(rows),
+            equal: Vec::new(),
         }
     }
 
@@ -57,6 +66,14 @@ impl System {
         self.weights.clear();
         self.starts.truncate(1);
         self.rhs.clear();
+        self.equal.clear();
+    }
+
+    /// Adds the condition `x_i = x_j`: the row `x_i − x_j = 0`, kept as a pair (see
+    /// [`System`]).
+    #[inline]
+    pub(crate) fn push_equal(&mut self, i: usize, j: usize) {
+        self.equal.push([i, j]);
     }
 
     /// Appends the row `Σ w_j x_j = rhs` with `terms` its `(j, w_j)`.
@@ -448,8 +465,9 @@ fn find(parent: &mut [usize], mut j: usize) -> usize {
 }
 
 /// The first two kinds of elimination of [`nearest_solution`]: unknowns fixed by single rows,
-/// and classes of unknowns merged by equality rows (union–find; the least index represents a
-/// class, whatever the row order).
+/// and classes of unknowns merged by the equal pairs and the equality rows (union–find; the
+/// least index represents a class, whatever the order of the merges: each root is the least
+/// of its class, and a merge keeps the lesser root).
 struct Classes {
     /// Per unknown: the value its single row gives it (the last such row's).
     fixed: Vec<Option<f64>>,
@@ -470,17 +488,21 @@ impl Classes {
         let mut fixed: Vec<Option<f64>> = vec![None; n];
         let mut parent: Vec<usize> = (0..n).collect();
         let (mut singles, mut coupled) = (Vec::new(), Vec::new());
+        let mut merge = |i: usize, j: usize| {
+            let (a, b) = (find(&mut parent, i), find(&mut parent, j));
+            let (lo, hi) = (a.min(b), a.max(b));
+            parent[hi] = lo;
+        };
+        for &[i, j] in &sys.equal {
+            merge(i, j);
+        }
         for (i, ((cols, ws, r), kind)) in sys.rows().zip(sys.kinds()).enumerate() {
             match kind {
                 RowKind::Single => {
                     fixed[cols[0]] = Some(r / ws[0]);
                     singles.push(i);
                 }
-                RowKind::Equality => {
-                    let (a, b) = (find(&mut parent, cols[0]), find(&mut parent, cols[1]));
-                    let (lo, hi) = (a.min(b), a.max(b));
-                    parent[hi] = lo;
-                }
+                RowKind::Equality => merge(cols[0], cols[1]),
                 RowKind::Coupled => coupled.push(i),
             }
         }
@@ -520,9 +542,10 @@ impl Classes {
 /// solver rounding and the dense system is small (6 × 8 instead of 150 × 66 for two apexes, on
 /// every one of the Stanford bunny's 54,039 split faces; 54 × 29 before the third kind):
 /// * rows with a single unknown (vertex data (2.1), the free parameters) fix it;
-/// * rows `x_i − x_j = 0` (the C0 rows of the joins: a coefficient on a shared facet is the
-///   blossom of its neighbour at the facet's vertices, which `exact_barycentric` makes exact
-///   unit vectors, so the weights are exactly one 1) merge `i` and `j` into one unknown;
+/// * equal pairs `x_i = x_j` ([`System::push_equal`]: the C0 conditions of the joins, where a
+///   coefficient on a shared facet is the blossom of its neighbour at the facet's vertices,
+///   which `exact_barycentric` makes exact unit vectors, so one coefficient each) and rows
+///   `x_i − x_j = 0` merge `i` and `j` into one unknown;
 /// * rows that, once the first two kinds are in, leave a single free unknown force it, and
 ///   pairs of rows left with the same two free unknowns force both, in cascade
 ///   ([`force_determined_unknowns`]).
@@ -675,10 +698,10 @@ fn nearest_classes(a_mat: &[f64], rhs: &[f64], inv_sqrt_w: &[f64], mean: Vec<f64
 }
 
 impl System {
-    /// The largest violation of the rows at `x`, eliminated ones included, relative to the
-    /// size of the right-hand side and the target. A plain loop over the rows: through an
-    /// iterator of rows behind `&mut dyn Iterator` this was 13 % of a split face's samples on
-    /// the bunny (the same sums, so the same value).
+    /// The largest violation of the rows and equal pairs at `x`, eliminated ones included,
+    /// relative to the size of the right-hand side and the target. A plain loop over the
+    /// rows: through an iterator of rows behind `&mut dyn Iterator` this was 13 % of a split
+    /// face's samples on the bunny (the same sums, so the same value).
     fn relative_residual(&self, x: &[f64], target: &[f64]) -> f64 {
         let mut worst = 0.0f64;
         let mut start = 0;
@@ -690,6 +713,13 @@ impl System {
             start = end;
             worst = larger(worst, (r - dot).abs());
         }
+        // The equal pairs as the rows `x_i − x_j = 0` they stand for: that row's violation
+        // `|0 − ((0 + 1·x_i) + (−1)·x_j)|` is `|fl(x_i − x_j)|` (the products by ±1 are exact,
+        // adding 0 changes at most a zero's sign, and `a + (−b)` rounds as `a − b`), and
+        // `larger` keeps the greatest magnitude whatever the order it sees them in.
+        for &[i, j] in &self.equal {
+            worst = larger(worst, (x[i] - x[j]).abs());
+        }
         let amax = |v: &[f64]| v.iter().fold(0.0f64, |m, x| larger(m, x.abs()));
         let size_of = amax(&self.rhs).max(amax(target));
         worst / size_of.max(f64::MIN_POSITIVE)
@@ -698,7 +728,56 @@ impl System {
 
 #[cfg(test)]
 mod tests {
-    use super::larger;
+    use super::{System, larger, nearest_solution};
+
+    /// A system with `x1 = x2` given as an equal pair or as the row `x1 − x2 = 0`; `x1` fixed
+    /// at `fixed1` and, if given, `x2` at `fixed2`.
+    fn with_equality(as_pair: bool, fixed1: f64, fixed2: Option<f64>) -> System {
+        let mut sys = System::with_capacity(6, 12);
+        sys.push([(0, 1.0)], 1.0);
+        sys.push([(1, 1.0)], fixed1);
+        if as_pair {
+            sys.push_equal(1, 2);
+        } else {
+            sys.push([(1, 1.0), (2, -1.0)], 0.0);
+        }
+        if let Some(v) = fixed2 {
+            sys.push([(2, 1.0)], v);
+        }
+        sys.push([(2, 1.0), (3, 2.0)], 4.0);
+        sys.push([(0, 1.0), (3, 1.0), (4, 1.0)], 2.0);
+        sys
+    }
+
+    /// An equal pair merges its unknowns as the row `x_i − x_j = 0` does: the same point and
+    /// the same residual, bit for bit, also where the class holds two fixed values that
+    /// disagree (which only the residual shows).
+    #[test]
+    fn an_equal_pair_is_the_equality_row() {
+        let target = [0.0, 0.5, 0.25, 1.0, -1.0];
+        for (fixed1, fixed2) in [
+            (3.0, None),
+            (-0.5, None),
+            (3.0, Some(3.0)),
+            (3.0, Some(3.5)),
+        ] {
+            for cascade in [true, false] {
+                let (xa, ra, ma) =
+                    nearest_solution(&with_equality(true, fixed1, fixed2), &target, cascade);
+                let (xb, rb, mb) =
+                    nearest_solution(&with_equality(false, fixed1, fixed2), &target, cascade);
+                let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+                assert_eq!(bits(&xa), bits(&xb), "{fixed1} {fixed2:?} {cascade}");
+                assert_eq!(ra.to_bits(), rb.to_bits(), "{fixed1} {fixed2:?} {cascade}");
+                assert_eq!(ma, mb);
+            }
+        }
+        // x1 = 3 and x2 = 3.5 in one class: each keeps its own fixed value, and the pair's
+        // violation 0.5 over the largest right side 4 is the residual.
+        let (x, r, _) = nearest_solution(&with_equality(true, 3.0, Some(3.5)), &target, true);
+        assert_eq!((x[1], x[2]), (3.0, 3.5));
+        assert_eq!(r, 0.5 / 4.0);
+    }
 
     /// On magnitudes (and a NaN second operand, which both ignore) `larger` is `f64::max`,
     /// bit for bit.

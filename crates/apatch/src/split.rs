@@ -61,8 +61,9 @@ impl System {
     /// as `pattern` says: every coefficient of B with `λ_opp ≤ 1` equals A's continuation
     /// (Lemma 2.2), the blossom of A at B's vertices. The shared vertices are exact unit
     /// vectors in A's coordinates (`exact_barycentric`), so the blossom needs no general
-    /// weights: a C0 row (`λ_opp = 0`) says that B's coefficient equals A's coefficient of the
-    /// same shared vertices' powers, and a C1 row (`λ_opp = 1`) is one de Casteljau step,
+    /// weights: a C0 condition (`λ_opp = 0`) says that B's coefficient equals A's coefficient
+    /// of the same shared vertices' powers (an equal pair, [`System::push_equal`]), and a C1
+    /// row (`λ_opp = 1`) is one de Casteljau step,
     /// `b_λ = Σ_k v_k a_{μ + e_k}` with `μ` the shared part of `λ` in A's indexing and `v`
     /// B's opposite vertex in A's coordinates (snapped, `snap_rounding_zeros`).
     fn join(&mut self, tets: &[Tetrahedron], ia: usize, ib: usize, pattern: &JoinPattern) {
@@ -86,7 +87,7 @@ impl System {
         for &(rank, join_row) in &pattern.rows {
             let row = ib * 20 + rank;
             match join_row {
-                JoinRow::C0(mu) => self.push_slice(&[row, ia * 20 + mu], &[1.0, -1.0], 0.0),
+                JoinRow::C0(mu) => self.push_equal(row, ia * 20 + mu),
                 JoinRow::C1(up) => {
                     let (mut cols, mut weights) = ([row; 5], [1.0; 5]);
                     for (t, &(k, w)) in up_terms.iter().enumerate() {
@@ -153,9 +154,10 @@ impl SplitFace {
 
 thread_local! {
     /// The constraint rows of the split faces built on this thread, one system emptied and
-    /// refilled for each: two apexes make ~210 rows of ~620 terms (10 KB), and allocating them
-    /// anew for every face put mimalloc's slow path in the bunny's profile.
-    static ROWS: RefCell<System> = RefCell::new(System::with_capacity(224, 640));
+    /// refilled for each: two apexes make 120 rows of at most 444 terms and 90 equal pairs
+    /// (~9 KB), and allocating them anew for every face put mimalloc's slow path in the
+    /// bunny's profile.
+    static ROWS: RefCell<System> = RefCell::new(System::with_capacity(128, 448));
 }
 
 /// The hard constraints of [`SplitFace::new`], pushed to `sys` (empty), and the target
@@ -179,9 +181,9 @@ fn constraints(
         }
     }
     let n = tets.len() * 20;
-    // Two apexes: 48 vertex, 12 mid-edge, 6 apex rows and 9 joins of 16 rows (C0 rows
-    // have 2 terms, C1 rows up to 5, mid-edge rows up to 10: 624 terms at most), which the
-    // caller's system has room for.
+    // Two apexes: 48 vertex, 12 mid-edge and 6 apex rows, and 9 joins of 6 C1 rows and 10
+    // equal pairs (C1 rows have up to 5 terms, mid-edge rows up to 10: 120 rows of 444
+    // terms at most), which the caller's system has room for.
     for side in 0..apexes.len() {
         let t0 = side * 3;
         for a in 0..3 {

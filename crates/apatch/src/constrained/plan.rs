@@ -27,6 +27,8 @@ struct Plan {
     starts: Vec<usize>,
     columns: Vec<usize>,
     two_term_kinds: Vec<(usize, RowKind)>,
+    /// The system's equal pairs ([`System::push_equal`]), part of the pattern too.
+    equal: Vec<[usize; 2]>,
     /// The number of unknowns.
     n: usize,
     /// The rows with one unknown, as in [`Classes`] (a function of the pattern).
@@ -176,6 +178,7 @@ impl Plan {
         Plan {
             starts: sys.starts.clone(),
             columns: sys.cols.clone(),
+            equal: sys.equal.clone(),
             two_term_kinds: sys
                 .starts
                 .windows(2)
@@ -214,6 +217,7 @@ impl Plan {
         let pattern = self.n == n
             && self.starts == sys.starts
             && self.columns == sys.cols
+            && self.equal == sys.equal
             && self.two_term_kinds.iter().all(|&(i, kind)| {
                 let s = sys.starts[i];
                 kind == RowKind::of(&sys.weights[s..s + 2], sys.rhs[i])
@@ -531,6 +535,11 @@ mod tests {
         assert!(!pa.fits(&coupled, 5));
         coupled.rhs[1] = 0.0;
         assert!(pa.fits(&coupled, 5));
+        // Equal pairs are part of the pattern.
+        let mut paired = system(0.5);
+        paired.push_equal(0, 4);
+        assert!(!pa.fits(&paired, 5));
+        assert!(Plan::record(&paired, 5).fits(&paired, 5));
         assert!(!pa.fits(&a, 6));
     }
 
