@@ -9,8 +9,14 @@
 //!   the report and raised if short). Best of [`REPEATS`] runs, each its own process.
 //! * libigl: `igl.loop(V, F, k)` in Python (the `libigl` wheel), `k` the least number of
 //!   levels giving at least [`TRIANGLES`] triangles (2 for the bunny: 1.11 M), best of
-//!   [`REPEATS`] runs after one warm-up. Installed on first use into `target/bench-venv` by
-//!   `python3 -m venv` + pip; skipped with a message when `python3` is missing.
+//!   [`REPEATS`] calls in one Python process after one warm-up call. Installed on first use
+//!   into `target/bench-venv` by `python3 -m venv` + pip; skipped with a message when
+//!   `python3` is missing.
+//!
+//! The two sides take turns: algesurf's run `k`, then libigl's call `k` (the Python process
+//! waits for its turn on stdin), so that both sides' best runs come from the same minutes.
+//! This machine's speed drifts by a third within an hour, and timing all of one side before
+//! the other put that drift into the ratio. Each turn's ratio is printed too.
 //!
 //! The mesh is `stanford-bunny.obj` from `$ALGESURF_CORPUS` (default `../shared/data`), or
 //! the path after `--mesh`. Prints both times and the ratio.
@@ -82,20 +88,90 @@ fn venv_python(root: &Path) -> Result<Option<PathBuf>> {
     Ok(Some(python))
 }
 
+/// libigl's side: after a warm-up call, prints the output's size as one JSON line, then
+/// answers every line on stdin with the seconds of one more `igl.loop` call.
 const IGL_SCRIPT: &str = r#"
 import sys, time, json
 import igl
 V, F = igl.read_triangle_mesh(sys.argv[1])
-levels, repeats = int(sys.argv[2]), int(sys.argv[3])
-igl.loop(V, F, levels)  # warm-up
-times = []
-for _ in range(repeats):
-    t = time.perf_counter()
-    NV, NF = igl.loop(V, F, levels)
-    times.append(time.perf_counter() - t)
+levels = int(sys.argv[2])
+NV, NF = igl.loop(V, F, levels)  # warm-up
 print(json.dumps({"faces": int(F.shape[0]), "levels": levels, "triangles": int(NF.shape[0]),
-                  "vertices": int(NV.shape[0]), "best_s": min(times), "times_s": times}))
+                  "vertices": int(NV.shape[0])}), flush=True)
+for _ in sys.stdin:
+    t = time.perf_counter()
+    igl.loop(V, F, levels)
+    print(time.perf_counter() - t, flush=True)
 "#;
+
+/// libigl's Python process ([`IGL_SCRIPT`]), warmed up and waiting for its turns.
+struct Igl {
+    child: std::process::Child,
+    stdin: std::process::ChildStdin,
+    stdout: std::io::BufReader<std::process::ChildStdout>,
+    /// The warm-up's output sizes.
+    header: serde_json::Value,
+}
+
+impl Igl {
+    /// Starts the script on `mesh` with `levels` Loop levels and reads its header.
+    fn start(python: &Path, mesh: &Path, levels: u32) -> Result<Igl> {
+        use std::process::Stdio;
+        let mut child = Command::new(python)
+            .args(["-c", IGL_SCRIPT])
+            .arg(mesh)
+            .arg(levels.to_string())
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .spawn()
+            .map_err(|e| format!("cannot start {}: {e}", python.display()))?;
+        let stdin = child.stdin.take().ok_or("libigl script: no stdin")?;
+        let stdout =
+            std::io::BufReader::new(child.stdout.take().ok_or("libigl script: no stdout")?);
+        let mut igl = Igl {
+            child,
+            stdin,
+            stdout,
+            header: serde_json::Value::Null,
+        };
+        let line = igl.line()?;
+        igl.header =
+            serde_json::from_str(&line).map_err(|e| format!("libigl script header: {e}"))?;
+        Ok(igl)
+    }
+
+    /// One line of the script's output; an error when it has ended.
+    fn line(&mut self) -> Result<String> {
+        use std::io::BufRead;
+        let mut line = String::new();
+        let read = self
+            .stdout
+            .read_line(&mut line)
+            .map_err(|e| format!("libigl script: {e}"))?;
+        if read == 0 {
+            return Err("libigl script ended early (see its error above)".into());
+        }
+        Ok(line.trim().to_owned())
+    }
+
+    /// The seconds of one timed `igl.loop` call.
+    fn time(&mut self) -> Result<f64> {
+        use std::io::Write;
+        writeln!(self.stdin, "go").map_err(|e| format!("libigl script: {e}"))?;
+        let line = self.line()?;
+        line.parse()
+            .map_err(|e| format!("libigl script: {line:?} is not a time: {e}"))
+    }
+}
+
+impl Drop for Igl {
+    fn drop(&mut self) {
+        // Killed and waited for, so that no process is left behind (the script only waits
+        // for its turns on stdin).
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
 
 /// Seconds of one stage in the report.
 fn stage(report: &serde_json::Value, name: &str) -> Result<f64> {
@@ -221,8 +297,12 @@ pub fn smooth(root: &Path, args: &[String]) -> Result<()> {
     // One read of the OBJ for both sides' sizes.
     let (faces, edges) = obj_counts(&mesh)?;
     let (mut n, mut m) = estimated_resolution(faces, edges);
-    // An algesurf failure (e.g. a mesh the hull rejects) is reported after libigl's time.
-    let ours = (|| -> Result<f64> {
+    let total = |r: &serde_json::Value| -> Result<f64> {
+        Ok(stage(r, "construction")? + stage(r, "tessellation")?)
+    };
+    // The resolution first: the run that reaches TRIANGLES is algesurf's first turn. An
+    // algesurf failure (e.g. a mesh the hull rejects) is reported, and libigl still timed.
+    let first = (|| -> Result<serde_json::Value> {
         let mut report = algesurf_run(root, &mesh, n, m)?;
         while report["output_mesh"]["triangles"].as_u64().unwrap_or(0) < TRIANGLES {
             if m < n {
@@ -232,30 +312,43 @@ pub fn smooth(root: &Path, args: &[String]) -> Result<()> {
             }
             report = algesurf_run(root, &mesh, n, m)?;
         }
-        // Best of REPEATS runs, as libigl's side: the run that found (n, m) and REPEATS − 1
-        // more (one process each, so every run pays its own page faults; libigl's calls run
-        // in one warmed-up Python process).
-        let total = |r: &serde_json::Value| -> Result<f64> {
-            Ok(stage(r, "construction")? + stage(r, "tessellation")?)
-        };
-        let mut best = total(&report)?;
-        let mut totals = vec![best];
-        for _ in 1..REPEATS {
-            let again = algesurf_run(root, &mesh, n, m)?;
-            let t = total(&again)?;
-            totals.push(t);
-            if t < best {
-                best = t;
-                report = again;
-            }
+        Ok(report)
+    })();
+    if let Err(e) = &first {
+        eprintln!("xtask: algesurf side failed: {e}");
+    }
+    let mut levels = 0u32;
+    while faces * 4u64.pow(levels) < TRIANGLES {
+        levels += 1;
+    }
+    let mut igl = match venv_python(root)? {
+        Some(python) => Some(Igl::start(&python, &mesh, levels)?),
+        None => None,
+    };
+    // Turns: algesurf's run k (one process each, so every run pays its own page faults),
+    // then libigl's call k (in its one warmed-up Python process).
+    let mut ours: Vec<(f64, serde_json::Value)> = Vec::new();
+    let mut theirs: Vec<f64> = Vec::new();
+    if let Ok(report) = first {
+        ours.push((total(&report)?, report));
+    }
+    for turn in 0..REPEATS {
+        if turn > 0 && !ours.is_empty() {
+            let report = algesurf_run(root, &mesh, n, m)?;
+            ours.push((total(&report)?, report));
         }
-        let construction = stage(&report, "construction")?;
-        let tessellation = stage(&report, "tessellation")?;
+        if let Some(igl) = igl.as_mut() {
+            theirs.push(igl.time()?);
+        }
+    }
+    if let Some((_, report)) = ours.iter().min_by(|a, b| a.0.total_cmp(&b.0)) {
+        let construction = stage(report, "construction")?;
+        let tessellation = stage(report, "tessellation")?;
         let tris = report["output_mesh"]["triangles"].as_u64().unwrap_or(0);
         let points = report["output_mesh"]["vertices"].as_u64().unwrap_or(0);
         let faces_in = report["input_mesh"]["faces"].as_u64().unwrap_or(0);
         println!("mesh: {} ({faces_in} faces after repair)", mesh.display());
-        let runs: Vec<String> = totals.iter().map(|t| format!("{t:.3}")).collect();
+        let runs: Vec<String> = ours.iter().map(|(t, _)| format!("{t:.3}")).collect();
         println!(
             "algesurf smooth, resolution {n} × {m}, best of {REPEATS} (totals {} s): construction \
              {construction:.3} s ({:.0} faces/s), tessellation {tessellation:.3} s ({:.3} M \
@@ -265,39 +358,40 @@ pub fn smooth(root: &Path, args: &[String]) -> Result<()> {
             points as f64 / tessellation / 1e6,
             construction + tessellation
         );
-        Ok(construction + tessellation)
-    })();
-    if let Err(e) = &ours {
-        eprintln!("xtask: algesurf side failed: {e}");
     }
-
-    let Some(python) = venv_python(root)? else {
-        return ours.map(|_| ());
+    let Some(igl) = igl else {
+        return if ours.is_empty() {
+            Err("algesurf smooth failed (see above)".into())
+        } else {
+            Ok(())
+        };
     };
-    let mut levels = 0u32;
-    while faces * 4u64.pow(levels) < TRIANGLES {
-        levels += 1;
-    }
-    let mut py = Command::new(&python);
-    py.args(["-c", IGL_SCRIPT])
-        .arg(&mesh)
-        .args([levels.to_string(), REPEATS.to_string()]);
-    let igl: serde_json::Value = serde_json::from_str(output(py)?.trim())
-        .map_err(|e| format!("libigl script output: {e}"))?;
-    let theirs = igl["best_s"].as_f64().ok_or("libigl script: no best_s")?;
+    let runs: Vec<String> = theirs.iter().map(|t| format!("{t:.3}")).collect();
+    let best_theirs = theirs.iter().copied().fold(f64::INFINITY, f64::min);
     println!(
-        "libigl igl.loop(V, F, {levels}): {theirs:.3} s (best of {REPEATS}), {} triangles",
-        igl["triangles"]
+        "libigl igl.loop(V, F, {levels}): {best_theirs:.3} s (best of {REPEATS}: {} s), {} \
+         triangles",
+        runs.join(", "),
+        igl.header["triangles"]
     );
-    let ours = ours?;
+    if ours.is_empty() {
+        return Err("algesurf smooth failed (see above)".into());
+    }
+    let turns: Vec<String> = ours
+        .iter()
+        .zip(&theirs)
+        .map(|((a, _), b)| format!("{:.2}", a / b))
+        .collect();
+    let best_ours = ours.iter().map(|o| o.0).fold(f64::INFINITY, f64::min);
     println!(
-        "ratio algesurf / libigl: {:.2} ({})",
-        ours / theirs,
-        if ours < theirs {
+        "ratio algesurf / libigl: {:.2} ({}); turn by turn: {}",
+        best_ours / best_theirs,
+        if best_ours < best_theirs {
             "algesurf faster"
         } else {
             "libigl faster"
-        }
+        },
+        turns.join(", ")
     );
     Ok(())
 }
