@@ -310,7 +310,7 @@ impl EdgeCubic {
     }
 
     /// [`EdgeCubic::from_neighbours`] for neighbours whose polynomials are both the apex square
-    /// `τ_apex²` ([`crate::geometry::apex_square`]): the lift of Step 6, how the edge cubic
+    /// `τ_apex²` (as [`crate::geometry::add_apex_square`] adds it): the lift of Step 6, how the edge cubic
     /// moves per unit of a common increment of the two faces' apex values. `tet_k`, `tet_l` are
     /// the neighbours' tetrahedra (apex last, containing `p_i` and `p_j`).
     ///
