@@ -310,9 +310,9 @@ impl EdgeCubic {
     }
 
     /// [`EdgeCubic::from_neighbours`] for neighbours whose polynomials are both the apex square
-    /// `τ_apex²` (as [`crate::geometry::add_apex_square`] adds it): the lift of Step 6, how the edge cubic
-    /// moves per unit of a common increment of the two faces' apex values. `tet_k`, `tet_l` are
-    /// the neighbours' tetrahedra (apex last, containing `p_i` and `p_j`).
+    /// `τ_apex²` (as [`crate::geometry::add_apex_square`] adds it): the lift of Step 6, how the
+    /// edge cubic moves per unit of a common increment of the two faces' apex values. `tet_k`,
+    /// `tet_l` are the neighbours' tetrahedra (apex last, containing `p_i` and `p_j`).
     ///
     /// In closed form instead of 40 general blossoms: `τ²` elevated to a cubic has the blossom
     /// `(τ(x)τ(y) + τ(x)τ(z) + τ(y)τ(z))/3`, and at the edge tetrahedron's vertices
