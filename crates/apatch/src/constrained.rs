@@ -11,7 +11,7 @@
 //! deciding them again.
 
 use crate::rowspace::RowBasis;
-use algesurf_bb::extremes::max_not_nan;
+use algesurf_bb::extremes::{max_abs, max_not_nan};
 
 mod plan;
 #[cfg(test)]
@@ -652,15 +652,6 @@ fn dense_solve(
     (x, residual, m)
 }
 
-/// `max(m, x)` for `m ≥ 0` and `x ≥ 0` or NaN, as `f64::max` gives it (a NaN `x` leaves `m`),
-/// in one compare-and-select: `f64::max` handles a NaN in either operand, which made a split
-/// face's residual (13.7 k instructions of a bunny split face's 83 k, `callgrind`) 2.1 k
-/// instructions longer (spot, `cachegrind`).
-#[inline]
-fn larger(m: f64, x: f64) -> f64 {
-    if x > m { x } else { m }
-}
-
 /// The free classes' values `y` nearest their targets' means `t̄` (weights `w_c`, given as
 /// `1/√w_c`) subject to `A y = r` (`A` dense row-major, `r.len()` rows): the minimum-norm
 /// `z` of `A W^{−1/2} z = r − A t̄` by [`RowBasis`], `y = t̄ + W^{−1/2} z` (see
@@ -701,7 +692,10 @@ impl System {
     /// The largest violation of the rows and equal pairs at `x`, eliminated ones included,
     /// relative to the size of the right-hand side and the target. A plain loop over the
     /// rows: through an iterator of rows behind `&mut dyn Iterator` this was 13 % of a split
-    /// face's samples on the bunny (the same sums, so the same value).
+    /// face's samples on the bunny (the same sums, so the same value). The running maxima are
+    /// [`max_not_nan`] from 0, `f64::max`'s value in one comparison: `f64::max` handles a NaN
+    /// in either operand, which made a split face's residual (13.7 k instructions of a bunny
+    /// split face's 83 k, `callgrind`) 2.1 k instructions longer (spot, `cachegrind`).
     fn relative_residual(&self, x: &[f64], target: &[f64]) -> f64 {
         let mut worst = 0.0f64;
         let mut start = 0;
@@ -711,24 +705,23 @@ impl System {
                 dot += w * x[j];
             }
             start = end;
-            worst = larger(worst, (r - dot).abs());
+            worst = max_not_nan(worst, (r - dot).abs());
         }
         // The equal pairs as the rows `x_i − x_j = 0` they stand for: that row's violation
         // `|0 − ((0 + 1·x_i) + (−1)·x_j)|` is `|fl(x_i − x_j)|` (the products by ±1 are exact,
         // adding 0 changes at most a zero's sign, and `a + (−b)` rounds as `a − b`), and
-        // `larger` keeps the greatest magnitude whatever the order it sees them in.
+        // the running maximum keeps the greatest magnitude whatever the order it sees them in.
         for &[i, j] in &self.equal {
-            worst = larger(worst, (x[i] - x[j]).abs());
+            worst = max_not_nan(worst, (x[i] - x[j]).abs());
         }
-        let amax = |v: &[f64]| v.iter().fold(0.0f64, |m, x| larger(m, x.abs()));
-        let size_of = amax(&self.rhs).max(amax(target));
+        let size_of = max_abs(&self.rhs).max(max_abs(target));
         worst / size_of.max(f64::MIN_POSITIVE)
     }
 }
 
 #[cfg(test)]
 mod tests {
-    use super::{System, larger, nearest_solution};
+    use super::{System, nearest_solution};
 
     /// A system with `x1 = x2` given as an equal pair or as the row `x1 − x2 = 0`; `x1` fixed
     /// at `fixed1` and, if given, `x2` at `fixed2`.
@@ -777,17 +770,5 @@ mod tests {
         let (x, r, _) = nearest_solution(&with_equality(true, 3.0, Some(3.5)), &target, true);
         assert_eq!((x[1], x[2]), (3.0, 3.5));
         assert_eq!(r, 0.5 / 4.0);
-    }
-
-    /// On magnitudes (and a NaN second operand, which both ignore) `larger` is `f64::max`,
-    /// bit for bit.
-    #[test]
-    fn larger_is_f64_max_on_magnitudes() {
-        let xs = [0.0, 1e-300, 0.5, 2.0, f64::INFINITY, f64::NAN];
-        for m in [0.0, 1e-300, 1.0, f64::INFINITY] {
-            for x in xs {
-                assert_eq!(larger(m, x).to_bits(), m.max(x).to_bits(), "{m} {x}");
-            }
-        }
     }
 }

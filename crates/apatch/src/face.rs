@@ -203,10 +203,7 @@ impl FaceCubic {
             .zip(&rhs)
             .map(|(row, r)| (row.iter().zip(&q).map(|(a, b)| a * b).sum::<f64>() - r).abs())
             .fold(0.0f64, f64::max);
-        let scale = rhs
-            .iter()
-            .fold(0.0f64, |m, x| m.max(x.abs()))
-            .max(f64::MIN_POSITIVE);
+        let scale = algesurf_bb::extremes::max_abs(&rhs).max(f64::MIN_POSITIVE);
         let q_layer1 = [0, 1, 2].map(|a| {
             let mut k = [0; 4];
             k[a] = 1;

@@ -22,7 +22,7 @@
 //! maximum, kept for comparison.
 
 use algesurf_bb::BbPoly;
-use algesurf_bb::extremes::{max_not_nan, min_not_nan};
+use algesurf_bb::extremes::{max_abs, min_not_nan};
 use algesurf_bb::sheet::{
     b_min_1_upper_from_minima, certified_triangle_b_min_below, lemma_2_3_b_min,
 };
@@ -69,7 +69,7 @@ pub fn lifted_b_min(base: [f64; 4], lift: [f64; 4]) -> Option<f64> {
 pub fn lifted_b_min_above(base: [f64; 4], lift: [f64; 4], floor: f64) -> Option<f64> {
     let [b0, b1, b2, b3] = base;
     let [l0, l1, c2, c3] = lift;
-    let scale = lift.iter().fold(0.0f64, |m, x| max_not_nan(m, x.abs()));
+    let scale = max_abs(&lift);
     // The lift's layers 0 and 1 vanish exactly in exact arithmetic; 1e-12 of its size allows
     // for the rounding of the blossoms that produce it.
     if b0 >= 0.0

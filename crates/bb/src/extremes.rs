@@ -39,6 +39,21 @@ pub fn max_not_nan(a: f64, b: f64) -> f64 {
     if b > a { b } else { a }
 }
 
+/// The largest magnitude `|x|` of `values`, `0.0` when there are none; a NaN is skipped, as
+/// by `f64::max`. A running extreme from 0 in one comparison per value ([`max_not_nan`]): the
+/// scale of relative tolerances in the root finders, the sheet bounds, the rays and the split
+/// faces' fits.
+///
+/// ```
+/// use algesurf_bb::extremes::max_abs;
+/// assert_eq!(max_abs(&[1.0, -3.0, f64::NAN, 2.0]), 3.0);
+/// assert_eq!(max_abs(&[]), 0.0);
+/// ```
+#[inline]
+pub fn max_abs(values: &[f64]) -> f64 {
+    values.iter().fold(0.0, |m, x| max_not_nan(m, x.abs()))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -78,5 +93,11 @@ mod tests {
         }
         // A NaN first operand stays (the one case where they differ), without a panic.
         assert!(min_not_nan(f64::NAN, 1.0).is_nan() && max_not_nan(f64::NAN, 1.0).is_nan());
+        // The largest magnitude is `f64::max`'s fold from 0, bit for bit (magnitudes have no
+        // negative zero), for every prefix of the values, NaNs and infinities included.
+        for k in 0..=xs.len() {
+            let std = xs[..k].iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            assert_eq!(max_abs(&xs[..k]).to_bits(), std.to_bits(), "{:?}", &xs[..k]);
+        }
     }
 }

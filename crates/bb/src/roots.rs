@@ -48,7 +48,7 @@ pub use cubic::{
 pub use subdivision::{find_roots, find_roots_of, find_roots_with};
 
 use crate::BbError;
-use crate::extremes::max_not_nan;
+use crate::extremes::max_abs;
 use crate::multi_index::binomial;
 
 /// Highest degree the root finders accept. Subdivision works for any degree; the cap keeps the
@@ -128,7 +128,7 @@ pub(crate) fn validate(b: &[f64]) -> Result<f64, BbError> {
             what: "polynomial coefficient",
         });
     }
-    let m = b.iter().fold(0.0f64, |m, x| max_not_nan(m, x.abs()));
+    let m = max_abs(b);
     if m == 0.0 {
         return Err(BbError::InvalidArgument(
             "the zero polynomial vanishes everywhere: its roots are not isolated".into(),
@@ -293,8 +293,7 @@ pub(crate) fn bracketed_root(c: &[f64], resolution: impl Fn(f64) -> f64) -> f64 
     let f_lo = c[0];
     // De Casteljau's rounding error bound at any u ∈ [0, 1] (see `eval_with_derivative`): once
     // |f| is below it, the sign of f — and so any further step — is noise.
-    let noise =
-        2.0 * n as f64 * UNIT_ROUNDOFF * c.iter().fold(0.0f64, |m, x| max_not_nan(m, x.abs()));
+    let noise = 2.0 * n as f64 * UNIT_ROUNDOFF * max_abs(c);
     let (mut a, mut b) = (0.0f64, 1.0f64);
     // Start at the zero of the chord (regula falsi), inside (0, 1) because c_0 c_n < 0.
     let mut u = (c[0] / (c[0] - c[n])).clamp(0.0, 1.0);

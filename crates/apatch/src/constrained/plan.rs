@@ -5,7 +5,7 @@ use super::{
     Classes, FORCE_PIVOT, PivotTest, RowKind, Step, System, force_determined_unknowns,
     nearest_classes, nearest_solution, pair_pivot,
 };
-use algesurf_bb::extremes::max_not_nan;
+use algesurf_bb::extremes::max_abs;
 use std::cell::RefCell;
 use std::rc::Rc;
 
@@ -431,10 +431,7 @@ impl Replay {
 
 /// The largest weight of the terms `s..e` of `sys` (a row's), as the cascade takes it.
 fn largest_weight(sys: &System, (s, e): (usize, usize)) -> f64 {
-    // A running extreme from 0 (`algesurf_bb::extremes`): the same value as `f64::max`.
-    sys.weights[s..e]
-        .iter()
-        .fold(0.0f64, |m, w| max_not_nan(m, w.abs()))
+    max_abs(&sys.weights[s..e])
 }
 
 /// How many plans each thread keeps ([`solve`]), most recently used first. Spot's 2 956 split

@@ -15,7 +15,7 @@ use crate::geometry::gradient_from_partials;
 use crate::rational::face_term;
 use crate::surface::FaceFunction;
 use crate::{ApatchSurface, EdgeCubic, FaceCubic, SplitFace};
-use algesurf_bb::extremes::max_not_nan;
+use algesurf_bb::extremes::max_abs;
 use algesurf_bb::roots::shooting_root;
 use algesurf_hull::Side;
 use glam::DVec3;
@@ -45,7 +45,7 @@ fn root(c: [f64; 4], sign: f64) -> Option<(f64, bool)> {
     let t = r.t;
     let s = 1.0 - t;
     let d = 3.0 * ((c[1] - c[0]) * s * s + 2.0 * (c[2] - c[1]) * t * s + (c[3] - c[2]) * t * t);
-    let scale = c.iter().fold(0.0f64, |m, x| max_not_nan(m, x.abs()));
+    let scale = max_abs(&c);
     Some((t, d.abs() > 1e-10 * scale))
 }
 
@@ -58,7 +58,7 @@ fn shoot(q: DVec3, apex: DVec3, c: [f64; 4], sign: f64, grad: impl Fn(f64) -> DV
     // |F(q)| within the rounding of its own evaluation (a few ε times the coefficients it is
     // combined from): the ray starts on the surface. Treating it as t = 0 keeps rays from a
     // mesh edge where F vanishes identical from every side.
-    let scale = c.iter().fold(0.0f64, |m, x| max_not_nan(m, x.abs()));
+    let scale = max_abs(&c);
     if c[0] == 0.0 || c[0].abs() <= 8.0 * f64::EPSILON * scale {
         return RayPoint {
             position: q,

@@ -254,7 +254,7 @@ fn classify_cluster(q: &[f64], qmax: f64, qerr: f64, a: f64, b: f64) -> Root {
         let pow2 = (1u64 << k.min(60)) as f64;
         let mut bound = falling * pow2 * (qerr + k as f64 * U * qmax) * (1.0 + 2.0 * U);
         let r = restrict(&d, a, b);
-        let dmax = d.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        let dmax = crate::extremes::max_abs(&d);
         // Two subdivisions of degree n − k: 2 · 3 (n − k) u max|d| (see `split`).
         bound += 6.0 * (n - k) as f64 * U * dmax;
         let pos = r.iter().all(|&x| x > bound);
