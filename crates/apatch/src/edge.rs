@@ -16,7 +16,7 @@ use crate::geometry::{exact_barycentric, gradient_from_partials, value_gradient_
 use crate::rational::edge_term;
 use crate::surface::no_tetrahedron_on;
 use crate::{ApatchError, FaceCubic, FaceFunction};
-use algesurf_bb::extremes::max_not_nan;
+use algesurf_bb::extremes::{max_abs, max_not_nan};
 use algesurf_bb::sheet::square::Tensor3;
 use algesurf_bb::{BbPoly, Tetrahedron};
 use algesurf_hull::Side;
@@ -277,8 +277,7 @@ impl EdgeCubic {
         };
         let (vk, vl) = (verts(tk), verts(tl));
         // Running extremes from 0 (`algesurf_bb::extremes`): the same values as `f64::max`.
-        let norm = |c: &cubic::Coeffs| c.iter().map(|x| x.abs()).fold(0.0, max_not_nan);
-        let scale = max_not_nan(max_not_nan(norm(pk), norm(pl)), f64::MIN_POSITIVE);
+        let scale = max_not_nan(max_not_nan(max_abs(pk), max_abs(pl)), f64::MIN_POSITIVE);
         let mut coeffs = [0.0; 20];
         let mut mismatch: f64 = 0.0;
         let mut rational = [[0.0; 2]; 2];
