@@ -182,17 +182,11 @@ fn stage(report: &serde_json::Value, name: &str) -> Result<f64> {
 
 /// Runs the release binary on `mesh` at resolution `n`, `m` across; returns the report.
 fn algesurf_run(root: &Path, mesh: &Path, n: u32, m: u32) -> Result<serde_json::Value> {
-    let dir = root.join("target/bench-smooth");
-    std::fs::create_dir_all(&dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
-    let stem = mesh
-        .file_stem()
-        .map_or("mesh".into(), |s| s.to_string_lossy().into_owned());
-    let out = dir.join(format!("{stem}.ply"));
+    let dir = bench_dir(root)?;
+    let out = dir.join(format!("{}.ply", mesh_stem(mesh)));
     let report = dir.join("report.json");
     let _ = std::fs::remove_file(&report);
-    let exe = root
-        .join("target/release")
-        .join(format!("algesurf{}", std::env::consts::EXE_SUFFIX));
+    let exe = release_cli(root);
     let mut cmd = Command::new(&exe);
     cmd.arg("smooth")
         .arg(mesh)
@@ -267,6 +261,25 @@ pub fn bench_mesh(root: &Path, args: &[String]) -> Result<PathBuf> {
         ));
     }
     Ok(mesh)
+}
+
+/// The release `algesurf` binary that [`build_release_cli`] builds.
+pub fn release_cli(root: &Path) -> PathBuf {
+    root.join("target/release")
+        .join(format!("algesurf{}", std::env::consts::EXE_SUFFIX))
+}
+
+/// `target/bench-smooth`, where the benchmark's runs write their output, created if missing.
+pub fn bench_dir(root: &Path) -> Result<PathBuf> {
+    let dir = root.join("target/bench-smooth");
+    std::fs::create_dir_all(&dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    Ok(dir)
+}
+
+/// The mesh file's name without its extension (`mesh` if it has none), for output names.
+pub fn mesh_stem(mesh: &Path) -> String {
+    mesh.file_stem()
+        .map_or("mesh".into(), |s| s.to_string_lossy().into_owned())
 }
 
 /// `cargo build --release -p algesurf-cli`.

@@ -23,7 +23,10 @@ use std::path::Path;
 use std::process::Command;
 
 use crate::Result;
-use crate::bench_peers::{bench_mesh, build_release_cli, estimated_resolution, obj_counts};
+use crate::bench_peers::{
+    bench_dir, bench_mesh, build_release_cli, estimated_resolution, mesh_stem, obj_counts,
+    release_cli,
+};
 
 /// Functions listed when `--top` is not given.
 const DEFAULT_TOP: usize = 25;
@@ -47,16 +50,11 @@ pub fn run(root: &Path, args: &[String]) -> Result<()> {
     build_release_cli(root)?;
     let (faces, edges) = obj_counts(&mesh)?;
     let (n, m) = estimated_resolution(faces, edges);
-    let dir = root.join("target/bench-smooth");
-    std::fs::create_dir_all(&dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    let dir = bench_dir(root)?;
     let counts = dir.join("cachegrind.out");
     let _ = std::fs::remove_file(&counts);
-    let stem = mesh
-        .file_stem()
-        .map_or("mesh".into(), |s| s.to_string_lossy().into_owned());
-    let exe = root
-        .join("target/release")
-        .join(format!("algesurf{}", std::env::consts::EXE_SUFFIX));
+    let stem = mesh_stem(&mesh);
+    let exe = release_cli(root);
     let mut cmd = Command::new("valgrind");
     cmd.args(["--tool=cachegrind", "--cache-sim=no"])
         .arg(format!("--cachegrind-out-file={}", counts.display()))

@@ -84,8 +84,8 @@ fn dist() -> Result<()> {
     let mut build = cargo();
     build.args(["build", "--release", "--locked", "-p", "algesurf-cli"]);
     run(build)?;
+    let src = bench_peers::release_cli(&root());
     let exe = format!("algesurf{}", std::env::consts::EXE_SUFFIX);
-    let src = root().join("target/release").join(&exe);
     let dir = root().join("dist");
     std::fs::create_dir_all(&dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
     let dst = dir.join(&exe);
