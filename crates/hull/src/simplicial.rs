@@ -273,6 +273,10 @@ impl SimplicialHull {
         state.mesh = hull.mesh;
         let mut rounds = Rounds::new(hull.faces, hull.edges, first_keys, index);
         let mut round = first_round;
+        // Every input face is in the face map (splits keep their halves' input face).
+        let input_faces = state.face_map.iter().max().map_or(0, |&f| f as usize + 1);
+        let face_bound = (options.max_refinement_growth * input_faces as f64)
+            .max(crate::REFINEMENT_FACE_FLOOR as f64);
         loop {
             let (positions, triangles) = state.current();
             let hit = &hits[0];
@@ -287,12 +291,27 @@ impl SimplicialHull {
                 rounds,
                 reason,
             };
-            if round - first_round == options.max_refinement_rounds {
-                // Same-component overlaps that survive every round are an error.
+            // Same-component overlaps that survive every round, or that have multiplied the
+            // faces beyond the growth bound, are an error.
+            let grown = triangles.len() as f64 > face_bound;
+            if round - first_round == options.max_refinement_rounds || grown {
+                let why = if grown {
+                    format!(
+                        "the mesh has grown to {} faces, more than {} times the input's {} \
+                         (`max_refinement_growth`), and {} pairs still overlap: refinement \
+                         multiplies them here instead of separating them",
+                        triangles.len(),
+                        options.max_refinement_growth,
+                        input_faces,
+                        hits.len()
+                    )
+                } else {
+                    format!("the limit of {round} rounds is reached")
+                };
                 return Err(unresolved(
                     round,
                     format!(
-                        "the limit of {round} rounds is reached; {}",
+                        "{why}; {}",
                         rounds::tallest_explained(
                             &hits,
                             rounds.faces(),

@@ -264,6 +264,67 @@ fn bad_input_is_reported() {
         SimplicialHull::new(&p, &f, &p, &bad),
         Err(HullError::InvalidOption(_))
     ));
+    for growth in [0.5, f64::NAN] {
+        let bad = HullOptions {
+            max_refinement_growth: growth,
+            ..paper()
+        };
+        assert!(matches!(
+            SimplicialHull::new(&p, &f, &p, &bad),
+            Err(HullError::InvalidOption(m)) if m.contains("max_refinement_growth")
+        ));
+    }
+}
+
+/// Where refinement diverges, the faces and the overlapping pairs multiply from round to
+/// round (a 48-face bicone with angle-weighted normals: ×1.5 faces a round, 280 k faces in 16
+/// rounds), so the round bound alone would let it take all memory: the growth bound stops it
+/// once the mesh has more than `max_refinement_growth` times the input's faces (here the
+/// floor, 4096, as 64 × 48 is less), and says so. Without that bound the same mesh refines
+/// on to the round limit.
+#[test]
+fn diverging_refinement_stops_at_the_growth_bound() {
+    use algesurf_hull::REFINEMENT_FACE_FLOOR;
+    use algesurf_mesh::{NormalMethod, shapes::bicone, vertex_normals};
+    let m = bicone(8, 0.05);
+    let normals = vertex_normals(&m, NormalMethod::Angle).unwrap();
+    let faces_in_reason = |reason: &str| -> usize {
+        let n = reason.split("grown to ").nth(1).expect("a growth reason");
+        n.split(' ').next().unwrap().parse().unwrap()
+    };
+    // Nine rounds at most (~12 k faces unbounded), so that this test fails, rather than
+    // runs away, without the bound.
+    let bounded = HullOptions {
+        max_refinement_rounds: 9,
+        ..HullOptions::default()
+    };
+    let grown = match SimplicialHull::from_mesh(&m, &normals, &bounded) {
+        Err(HullError::UnresolvedIntersection { rounds, reason, .. }) => {
+            assert!(rounds < 9, "{rounds} rounds: {reason}");
+            assert!(
+                reason.contains("more than 64 times the input's 48"),
+                "{reason}"
+            );
+            faces_in_reason(&reason)
+        }
+        other => panic!("expected the growth bound, got {other:?}"),
+    };
+    // The bound is checked after each round, which bisects at most every face once.
+    assert!(
+        grown > REFINEMENT_FACE_FLOOR && grown <= 2 * REFINEMENT_FACE_FLOOR,
+        "{grown} faces"
+    );
+    // Without the growth bound it refines on until the round limit.
+    let unbounded = HullOptions {
+        max_refinement_growth: f64::INFINITY,
+        ..bounded
+    };
+    match SimplicialHull::from_mesh(&m, &normals, &unbounded) {
+        Err(HullError::UnresolvedIntersection { reason, .. }) => {
+            assert!(reason.contains("the limit of 9 rounds"), "{reason}")
+        }
+        other => panic!("expected the round limit, got {other:?}"),
+    }
 }
 
 /// Two spheres passing through each other are separate components: their tetrahedra overlap
