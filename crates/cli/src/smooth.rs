@@ -451,7 +451,13 @@ pub(crate) fn build(
     (t.construction, t.faults.construction) = (dt, faults);
     let surface = surface.map_err(|e| match e {
         ApatchError::Hull(e) => {
-            format!("{source}: cannot build the simplicial hull: {e}{ids_note}")
+            let hint = match e {
+                algesurf_hull::HullError::UnresolvedIntersection { .. } => {
+                    sharp_rim_hint(args.normals, args.apex)
+                }
+                _ => "",
+            };
+            format!("{source}: cannot build the simplicial hull: {e}{ids_note}{hint}")
         }
         e => format!("{source}: cannot build the surface: {e}{ids_note}"),
     })?;
@@ -464,6 +470,28 @@ pub(crate) fn build(
         repair_json,
         timings: t,
     })
+}
+
+/// What to try when refinement could not separate the hull's tetrahedra and the command ran
+/// with normals or apexes other than those made for sharp rims (`docs/ARCHITECTURE.md`, sharp
+/// rims): with the defaults every mesh of the test corpus builds, and Suzanne, for one, does
+/// not with Loop, area- or angle-weighted normals or with the paper's apexes.
+fn sharp_rim_hint(normals: SmoothNormals, apex: ApexArg) -> &'static str {
+    match (normals, apex) {
+        (SmoothNormals::Auto | SmoothNormals::Butterfly, ApexArg::Nearest) => "",
+        (SmoothNormals::Auto | SmoothNormals::Butterfly, ApexArg::Normal) => {
+            " (hint: the default --apex nearest keeps the apexes low at sharp rims, where the \
+             paper's stand several face widths high)"
+        }
+        (_, ApexArg::Nearest) => {
+            " (hint: the default --normals auto takes the Butterfly limit normal at sharp rims, \
+             the normal Butterfly refinement agrees with there)"
+        }
+        (_, ApexArg::Normal) => {
+            " (hint: the defaults --normals auto and --apex nearest are made for sharp rims: \
+             Butterfly limit normals there, and low apexes)"
+        }
+    }
 }
 
 /// Smooths the input (or the built-in icosahedron) and writes the surface.

@@ -307,6 +307,48 @@ fn bad_input_fails_naming_the_file() {
     assert!(!dir.path().join("out.ply").exists());
 }
 
+/// A 48-face bicone with angle-weighted normals makes hull refinement diverge (the overlaps
+/// multiply from round to round): the command stops at the growth bound within a second
+/// instead of running out of memory, says why, suggests the default normals, and writes
+/// nothing; with the default normals the same mesh smooths.
+#[test]
+fn diverging_refinement_stops_and_suggests_the_default_normals() {
+    use std::fmt::Write;
+    let dir = TempDir::new("smooth", "diverging");
+    let m = shapes::bicone(8, 0.05);
+    let mut obj = String::new();
+    for p in m.positions() {
+        let _ = writeln!(obj, "v {:?} {:?} {:?}", p.x, p.y, p.z);
+    }
+    for t in m.triangles() {
+        let [a, b, c] = t.map(|v| v + 1);
+        let _ = writeln!(obj, "f {a} {b} {c}");
+    }
+    std::fs::write(dir.path().join("bicone.obj"), obj).unwrap();
+    let out = algesurf(
+        dir.path(),
+        &[
+            "smooth",
+            "bicone.obj",
+            "-o",
+            "out.ply",
+            "--normals",
+            "angle",
+        ],
+    );
+    assert!(!out.status.success(), "{}", text(&out));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("more than 64 times the input's 48 (`max_refinement_growth`)"),
+        "{err}"
+    );
+    assert!(err.contains("hint: the default --normals auto"), "{err}");
+    assert!(!dir.path().join("out.ply").exists());
+    let out = algesurf(dir.path(), &["smooth", "bicone.obj", "-o", "out.ply"]);
+    assert!(out.status.success(), "{}", text(&out));
+    assert!(!String::from_utf8_lossy(&out.stderr).contains("hint:"));
+}
+
 #[test]
 fn never_overwrites_the_input() {
     let dir = TempDir::new("smooth", "overwrite");
