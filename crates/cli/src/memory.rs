@@ -22,6 +22,15 @@ pub(crate) fn peak_resident_bytes() -> Option<u64> {
     Some(kib * 1024)
 }
 
+/// The memory the system can give a new allocation without swapping, in bytes
+/// (`MemAvailable` of `/proc/meminfo`, Linux 3.14 and later).
+pub(crate) fn available_bytes() -> Option<u64> {
+    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib * 1024)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -43,5 +52,20 @@ mod tests {
         // Transparent huge pages can back it with 2 MiB pages: 32 faults at least.
         assert!(after - before >= 32, "{before} → {after}");
         assert!(peak_resident_bytes().unwrap() >= bytes as u64);
+    }
+
+    /// On Linux the available memory is read, and is more than nothing and less than
+    /// 2⁶⁰ bytes; elsewhere it is `None`.
+    #[test]
+    fn available_memory_is_read_on_linux() {
+        let available = available_bytes();
+        assert_eq!(
+            available.is_some(),
+            cfg!(target_os = "linux"),
+            "{available:?}"
+        );
+        if let Some(b) = available {
+            assert!(b > 0 && b < 1 << 60, "{b}");
+        }
     }
 }

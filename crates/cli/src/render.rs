@@ -184,7 +184,7 @@ pub fn run(args: &RenderArgs) -> Result<(), BoxError> {
     };
     let (mesh, source, wire_tolerance) = if args.smooth {
         let s = build(args.input.as_deref(), &args.surface, false)?;
-        let (n, m) = args.grid.steps(&s.surface);
+        let (n, m) = args.grid.fitting_steps(&s.surface)?;
         let tess = s.surface.tessellate(n, m)?;
         let mut mesh = RenderMesh::from(&tess);
         // The input (control) mesh's edges are chords of the surface: on convex parts they

@@ -558,10 +558,14 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
         .max()
         .unwrap_or(0);
 
-    let (n, m) = args.grid.steps(&surface);
+    let (n, m) = args
+        .grid
+        .fitting_steps(&surface)
+        .map_err(|e| format!("{source}: {e}"))?;
     let (tess, dt, faults) = measured("tessellating", progress, || surface.tessellate(n, m));
     (t.tessellation, t.faults.tessellation) = (dt, faults);
-    let mut tess = tess.map_err(|e| format!("{source}: cannot tessellate: {e}"))?;
+    let mut tess =
+        tess.map_err(|e| format!("{source}: cannot tessellate at resolution {n} × {m}: {e}"))?;
 
     let min_margin = surface
         .free_parameters()

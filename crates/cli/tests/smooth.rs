@@ -349,6 +349,35 @@ fn diverging_refinement_stops_and_suggests_the_default_normals() {
     assert!(!String::from_utf8_lossy(&out.stderr).contains("hint:"));
 }
 
+/// A resolution far too fine for the mesh is refused before tessellating, naming the grid and
+/// what it would need, instead of ending in an allocation failure: icosphere(4) at 1024 steps
+/// would make 21.5 G triangles (~1.9 TB; past 2³² points the tessellation refuses too).
+#[test]
+fn a_resolution_too_fine_for_memory_is_refused() {
+    let dir = TempDir::new("smooth", "too-fine");
+    std::fs::write(dir.path().join("ico.obj"), icosphere_obj(4)).unwrap();
+    let out = algesurf(
+        dir.path(),
+        &[
+            "smooth",
+            "ico.obj",
+            "-o",
+            "out.ply",
+            "--normals",
+            "file",
+            "--resolution",
+            "1024",
+        ],
+    );
+    assert!(!out.status.success(), "{}", text(&out));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("resolution 1024 × 1024"), "{err}");
+    if cfg!(target_os = "linux") {
+        assert!(err.contains("GB of memory"), "{err}");
+    }
+    assert!(!dir.path().join("out.ply").exists());
+}
+
 #[test]
 fn never_overwrites_the_input() {
     let dir = TempDir::new("smooth", "overwrite");
