@@ -414,7 +414,24 @@ pub(crate) fn build(
         ),
     };
     if tri.face_count() == 0 {
-        return Err(format!("{source}: the mesh has no faces").into());
+        // Say what repair removed: a file whose every face was invalid or degenerate (NaN
+        // coordinates, collinear corners, coordinates so large or small that the faces' areas
+        // overflow or underflow f64) is not a file without faces.
+        let dropped: u64 = [
+            "dropped_invalid_faces",
+            "collapsed_faces",
+            "dropped_degenerate_faces",
+            "dropped_duplicate_faces",
+        ]
+        .iter()
+        .filter_map(|k| repair_json[*k].as_u64())
+        .sum();
+        let after = if dropped > 0 {
+            format!(" after repair ({repair_text})")
+        } else {
+            String::new()
+        };
+        return Err(format!("{source}: the mesh has no faces{after}").into());
     }
 
     let (normals, dt, faults) = measured("normals", progress, || {

@@ -305,6 +305,20 @@ fn bad_input_fails_naming_the_file() {
         text(&out)
     );
     assert!(!dir.path().join("out.ply").exists());
+    // Faces that repair drops (collinear corners): the error says so, not just "no faces".
+    std::fs::write(
+        dir.path().join("flat.obj"),
+        "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n",
+    )
+    .unwrap();
+    let out = algesurf(dir.path(), &["smooth", "flat.obj", "-o", "out.ply"]);
+    assert!(!out.status.success(), "{}", text(&out));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("flat.obj: the mesh has no faces after repair (dropped degenerate faces: 1"),
+        "{err}"
+    );
+    assert!(!dir.path().join("out.ply").exists());
 }
 
 /// A 48-face bicone with angle-weighted normals makes hull refinement diverge (the overlaps
