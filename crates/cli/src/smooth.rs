@@ -202,6 +202,25 @@ pub(crate) fn resolved(path: &Path) -> PathBuf {
     }
 }
 
+/// `Err` naming `path` and the missing folder when the folder `path` would be written in
+/// does not exist (or is not a folder).
+fn folder_exists(path: &Path, what: &str) -> Result<(), BoxError> {
+    let folder = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    if folder.is_dir() {
+        Ok(())
+    } else {
+        Err(format!(
+            "{}: cannot write the {what}: the folder {} does not exist",
+            path.display(),
+            folder.display()
+        )
+        .into())
+    }
+}
+
 /// One line naming what repair changed ("welded 403 vertices, flipped 2 faces").
 fn repair_summary(r: &RepairReport) -> String {
     if !r.changed() {
@@ -557,6 +576,12 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
             output.display()
         )
         .into());
+    }
+    // Folders that do not exist fail now, not after the surface is built (seconds on the
+    // bunny, minutes on larger meshes).
+    folder_exists(&output, "output")?;
+    if let Some(report) = &args.report {
+        folder_exists(report, "report")?;
     }
     let Built {
         tri,

@@ -305,6 +305,26 @@ fn bad_input_fails_naming_the_file() {
         text(&out)
     );
     assert!(!dir.path().join("out.ply").exists());
+    // An output or report in a folder that does not exist fails before any work, naming it.
+    std::fs::write(dir.path().join("ico.obj"), icosphere_obj(1)).unwrap();
+    for args in [
+        &["smooth", "ico.obj", "-o", "missing/out.ply"][..],
+        &[
+            "smooth",
+            "ico.obj",
+            "-o",
+            "out.ply",
+            "--report",
+            "missing/r.json",
+        ][..],
+    ] {
+        let out = algesurf(dir.path(), args);
+        assert!(!out.status.success(), "{}", text(&out));
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains("the folder missing does not exist"), "{err}");
+        assert!(out.stdout.is_empty(), "{}", text(&out));
+        assert!(!dir.path().join("out.ply").exists());
+    }
     // Faces that repair drops (collinear corners): the error says so, not just "no faces".
     std::fs::write(
         dir.path().join("flat.obj"),
