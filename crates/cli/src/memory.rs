@@ -1,6 +1,8 @@
 //! The process's memory figures for `smooth`'s summary and report: minor page faults (the
-//! kernel mapping a fresh zeroed page on first touch) and the peak resident size. Read from
-//! Linux's `/proc/self`; `None` on other systems or when it cannot be read.
+//! kernel mapping a fresh zeroed page on first touch) and the peak resident size; and the
+//! memory the system has available, which `--resolution` is checked against
+//! ([`crate::grid::check_memory`]). Read from Linux's `/proc`; `None` on other systems or when
+//! it cannot be read.
 //!
 //! Why they are reported: on the 2-core machine the benchmarks run on, first-touching a page
 //! costs about 3.5 µs, and the bunny's command takes ~170 k of them (docs/PERFORMANCE.md,
