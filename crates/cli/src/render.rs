@@ -184,18 +184,24 @@ pub fn run(args: &RenderArgs) -> Result<(), BoxError> {
     };
     let (mesh, source, wire_tolerance) = if args.smooth {
         let s = build(args.input.as_deref(), &args.surface, false)?;
-        let (n, m) = args.grid.fitting_steps(&s.surface)?;
-        let tess = s.surface.tessellate(n, m)?;
+        let name = args
+            .input
+            .as_ref()
+            .map_or("built-in icosahedron".into(), |p| p.display().to_string());
+        let (n, m) = args
+            .grid
+            .fitting_steps(&s.surface)
+            .map_err(|e| format!("{name}: {e}"))?;
+        let tess = s
+            .surface
+            .tessellate(n, m)
+            .map_err(|e| format!("{name}: cannot tessellate at resolution {n} × {m}: {e}"))?;
         let mut mesh = RenderMesh::from(&tess);
         // The input (control) mesh's edges are chords of the surface: on convex parts they
         // lie inside it by the chord sag (0.15 of the radius for the icosahedron, 4 % of the
         // bbox diagonal), so they need a depth tolerance above that; the far side is a
         // diameter (over 50 % of the diagonal) away and stays hidden.
         mesh.wire = Some(LineSet::edges_of(&s.tri));
-        let name = args
-            .input
-            .as_ref()
-            .map_or("built-in icosahedron".into(), |p| p.display().to_string());
         (mesh, format!("{name} (smoothed)"), 0.1)
     } else {
         let Some(input) = &args.input else {
