@@ -424,6 +424,17 @@ pub(crate) fn build(
             let tri = TriMesh::from_polygon_mesh(&repaired.mesh).map_err(|e| {
                 format!("{}: not a triangle mesh after repair: {e}", path.display())
             })?;
+            if tri.face_count() == 0 {
+                // A file whose every face repair dropped (NaN or collinear corners,
+                // coordinates so large or small that the areas overflow or underflow f64) is
+                // not a file without faces: say what repair removed.
+                let after = if mesh.face_count() > 0 {
+                    format!(" after repair ({text})")
+                } else {
+                    String::new()
+                };
+                return Err(format!("{source}: the mesh has no faces{after}").into());
+            }
             (tri, text, rj)
         }
         None => (
@@ -432,27 +443,6 @@ pub(crate) fn build(
             json!({ "changed": false, "summary": "no repairs needed" }),
         ),
     };
-    if tri.face_count() == 0 {
-        // Say what repair removed: a file whose every face was invalid or degenerate (NaN
-        // coordinates, collinear corners, coordinates so large or small that the faces' areas
-        // overflow or underflow f64) is not a file without faces.
-        let dropped: u64 = [
-            "dropped_invalid_faces",
-            "collapsed_faces",
-            "dropped_degenerate_faces",
-            "dropped_duplicate_faces",
-        ]
-        .iter()
-        .filter_map(|k| repair_json[*k].as_u64())
-        .sum();
-        let after = if dropped > 0 {
-            format!(" after repair ({repair_text})")
-        } else {
-            String::new()
-        };
-        return Err(format!("{source}: the mesh has no faces{after}").into());
-    }
-
     let (normals, dt, faults) = measured("normals", progress, || {
         vertex_normals(&tri, args.normals.method())
     });

@@ -347,18 +347,14 @@ fn bad_input_fails_naming_the_file() {
 /// nothing; with the default normals the same mesh smooths.
 #[test]
 fn diverging_refinement_stops_and_suggests_the_default_normals() {
-    use std::fmt::Write;
     let dir = TempDir::new("smooth", "diverging");
-    let m = shapes::bicone(8, 0.05);
-    let mut obj = String::new();
-    for p in m.positions() {
-        let _ = writeln!(obj, "v {:?} {:?} {:?}", p.x, p.y, p.z);
-    }
-    for t in m.triangles() {
-        let [a, b, c] = t.map(|v| v + 1);
-        let _ = writeln!(obj, "f {a} {b} {c}");
-    }
-    std::fs::write(dir.path().join("bicone.obj"), obj).unwrap();
+    let bicone = shapes::bicone(8, 0.05).to_polygon_mesh();
+    algesurf_io::write(
+        dir.path().join("bicone.obj"),
+        &bicone,
+        &algesurf_io::WriteOptions::default(),
+    )
+    .expect("write bicone.obj");
     let out = algesurf(
         dir.path(),
         &[
