@@ -74,7 +74,8 @@ impl Format {
                 return Some(Format::Stl);
             }
         }
-        let head = &bytes[..bytes.len().min(4096)];
+        let text_bytes = crate::without_bom(bytes);
+        let head = &text_bytes[..text_bytes.len().min(4096)];
         let text = String::from_utf8_lossy(head);
         let trimmed = text.trim_start();
         if trimmed.starts_with('{') && text.contains("\"asset\"") {

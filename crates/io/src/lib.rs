@@ -136,12 +136,28 @@ fn read_impl(
 ) -> Result<PolygonMesh, IoError> {
     let ctx = Ctx { path, format };
     match format {
-        Format::Obj => obj::read(bytes, ctx),
+        Format::Obj => obj::read(without_bom(bytes), ctx),
         Format::Ply => ply::read(bytes, ctx),
+        // The STL reader strips a byte order mark itself, from ascii files only: a binary
+        // file's 80-byte header may begin with any bytes.
         Format::Stl => stl::read(bytes, ctx),
-        Format::Off => off::read(bytes, ctx),
-        Format::Gltf | Format::Glb => gltf_io::read(bytes, ctx, base_dir),
+        Format::Off => off::read(without_bom(bytes), ctx),
+        Format::Gltf => gltf_io::read(without_bom(bytes), ctx, base_dir),
+        Format::Glb => gltf_io::read(bytes, ctx, base_dir),
     }
+}
+
+/// The UTF-8 encoding of U+FEFF, the byte order mark that Windows editors (Notepad, Excel's
+/// "CSV UTF-8", some exporters) put at the start of text files.
+const UTF8_BOM: &[u8] = b"\xEF\xBB\xBF";
+
+/// `bytes` without a leading UTF-8 byte order mark. For the text formats (OBJ, OFF, ascii
+/// STL, glTF JSON): the mark is not whitespace, so an OBJ's first statement read as the
+/// unknown keyword `\u{FEFF}v` and was skipped, and its first vertex with it (the file then
+/// failed at its first face naming a vertex count one short, or read with a vertex missing).
+/// Line numbers are unchanged: the mark is on the first line.
+pub(crate) fn without_bom(bytes: &[u8]) -> &[u8] {
+    bytes.strip_prefix(UTF8_BOM).unwrap_or(bytes)
 }
 
 /// Writes a mesh, choosing the format by the extension of `path`; writes a temporary file in

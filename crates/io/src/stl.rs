@@ -13,21 +13,24 @@ use crate::error::{Ctx, Location};
 use crate::{IoError, WriteOptions, fan_triangles, number};
 
 pub(crate) fn read(bytes: &[u8], ctx: Ctx<'_>) -> Result<PolygonMesh, IoError> {
-    let start = bytes
-        .iter()
-        .position(|b| !b.is_ascii_whitespace())
-        .unwrap_or(bytes.len());
     let binary_len = |b: &[u8]| -> Option<u64> {
         (b.len() >= 84).then(|| 84 + 50 * u32::from_le_bytes([b[80], b[81], b[82], b[83]]) as u64)
     };
     let exact_binary = binary_len(bytes) == Some(bytes.len() as u64);
-    let looks_ascii = bytes[start..].starts_with(b"solid")
-        && bytes[start..bytes.len().min(start + 1024)]
+    // An ascii file may start with a UTF-8 byte order mark ([`crate::without_bom`]); it is
+    // looked past only for the ascii probe, as a binary header may start with any bytes.
+    let text = crate::without_bom(bytes);
+    let start = text
+        .iter()
+        .position(|b| !b.is_ascii_whitespace())
+        .unwrap_or(text.len());
+    let looks_ascii = text[start..].starts_with(b"solid")
+        && text[start..text.len().min(start + 1024)]
             .windows(5)
             .any(|w| w == b"facet" || w == b"endso");
     let data: Cow<'_, [u8]> = if !exact_binary && looks_ascii {
         // stl_io wants the first line to start with "solid " (with a space).
-        let body = &bytes[start..];
+        let body = &text[start..];
         if body.get(5) == Some(&b' ') {
             Cow::Borrowed(body)
         } else {

@@ -249,3 +249,43 @@ fn format_by_extension_then_sniff() {
     assert_eq!(Format::sniff(b"OFF\n3 1 0\n"), Some(Format::Off));
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A UTF-8 byte order mark (`EF BB BF`), as Windows editors write it, before text files.
+fn with_bom(text: &[u8]) -> Vec<u8> {
+    [b"\xEF\xBB\xBF".as_slice(), text].concat()
+}
+
+#[test]
+fn text_files_with_a_byte_order_mark_read_as_without() {
+    // OBJ: the mark once hid the first `v` (an unknown statement), so the file read one
+    // vertex short and failed at its face "expected a vertex reference between 1 and 3".
+    let obj = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 2 4\n";
+    let plain = read_bytes(obj, Format::Obj).unwrap();
+    let marked = read_bytes(&with_bom(obj), Format::Obj).unwrap();
+    assert_eq!(marked.positions, plain.positions);
+    assert_eq!(faces(&marked), faces(&plain));
+    // Errors keep their line numbers (the mark is on line 1).
+    let e = read_bytes(&with_bom(b"v 0 0 0\nv 1 0 0\nf 1 2 7\n"), Format::Obj).unwrap_err();
+    assert!(e.to_string().contains("line 3"), "{e}");
+    let off = b"OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+    assert_eq!(
+        faces(&read_bytes(&with_bom(off), Format::Off).unwrap()),
+        vec![vec![0, 1, 2]]
+    );
+    let stl = b"solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n\
+        vertex 0 1 0\nendloop\nendfacet\nendsolid x\n";
+    let m = read_bytes(&with_bom(stl), Format::Stl).unwrap();
+    assert_eq!((m.vertex_count(), m.face_count()), (3, 1));
+    let gltf = algesurf_io::write_bytes(&plain, Format::Gltf, &Default::default()).unwrap();
+    let m = read_bytes(&with_bom(&gltf), Format::Gltf).unwrap();
+    assert_eq!((m.vertex_count(), m.face_count()), (4, 2));
+    // Sniffed without an extension, too.
+    for (text, format) in [
+        (&obj[..], Format::Obj),
+        (&off[..], Format::Off),
+        (&stl[..], Format::Stl),
+        (&gltf[..], Format::Gltf),
+    ] {
+        assert_eq!(Format::sniff(&with_bom(text)), Some(format));
+    }
+}
