@@ -129,6 +129,11 @@ impl Frame {
         if view.length() <= 0.0 || !view.is_finite() {
             return bad("eye and target must be distinct finite points");
         }
+        // A finite difference whose length overflows (an eye at 1e308) would normalise to
+        // zero and be reported as an up parallel to the view.
+        if !view.length().is_finite() {
+            return bad("eye and target are too far apart (their distance overflows)");
+        }
         let forward = view.normalize();
         let right = forward.cross(c.up);
         // `right` is NaN for a non-finite up; `is_finite` catches that too.

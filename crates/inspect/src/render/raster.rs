@@ -51,6 +51,15 @@ pub(crate) fn render_frame(
     if !o.light.is_finite() || o.light.length() == 0.0 {
         return bad("the light direction must be finite and nonzero".into());
     }
+    // Checked here, not only by `Frame::new`: the preset views place their eye at a distance
+    // computed from the field of view, and a NaN one made a NaN eye, reported as "eye and
+    // target must be distinct finite points".
+    if !(o.fov_y_degrees > 0.0 && o.fov_y_degrees < 180.0) {
+        return bad(format!(
+            "field of view {}: must be in (0, 180) degrees",
+            o.fov_y_degrees
+        ));
+    }
     let p = prepare(meshes, lines, o)?;
 
     // Bounding box of everything drawn.

@@ -348,6 +348,31 @@ fn bad_options_are_errors_not_panics() {
             "{o:?}"
         );
     }
+    // An eye so far that its distance overflows is named as such (it was reported as an up
+    // parallel to the view).
+    let far = RenderOptions {
+        views: vec![View::Camera(Camera {
+            eye: DVec3::new(1e308, 0.0, 0.0),
+            target: DVec3::ZERO,
+            up: DVec3::Y,
+            projection: Projection::Perspective {
+                fov_y_degrees: 30.0,
+            },
+        })],
+        ..base.clone()
+    };
+    let e = render(&m, &far).unwrap_err().to_string();
+    assert!(e.contains("too far apart"), "{e}");
+    // A bad field of view is named as such (a NaN one was reported as a bad eye: the preset
+    // views place the eye by it).
+    for fov in [f64::NAN, 0.0, -5.0, 180.0, f64::INFINITY] {
+        let o = RenderOptions {
+            fov_y_degrees: fov,
+            ..base.clone()
+        };
+        let e = render(&m, &o).unwrap_err().to_string();
+        assert!(e.contains("field of view"), "{fov}: {e}");
+    }
     let mut broken = m.clone();
     broken.triangles.push([0, 1, 1_000_000]);
     assert!(render(&broken, &base).is_err());
