@@ -127,6 +127,10 @@ pub fn run(args: &CheckArgs) -> Result<ExitCode, BoxError> {
         )
         .into());
     }
+    // Before the work: the battery takes seconds on a large mesh, and the write came last.
+    if let Some(json) = &args.json {
+        crate::smooth::folder_exists(json, "report")?;
+    }
     let built = build(args.input.as_deref(), &args.surface, progress)?;
     let view = ApatchView::new(&built.surface);
     let options = CheckOptions {

@@ -174,6 +174,8 @@ pub fn run(args: &RenderArgs) -> Result<(), BoxError> {
         )
         .into());
     }
+    // Before the work: rendering a smoothed bunny takes seconds, and the write came last.
+    crate::smooth::folder_exists(&args.output, "image")?;
     let views: Vec<View> = if args.eye.is_none() {
         args.view
             .split(',')

@@ -204,7 +204,7 @@ pub(crate) fn resolved(path: &Path) -> PathBuf {
 
 /// `Err` naming `path` and the missing folder when the folder `path` would be written in
 /// does not exist (or is not a folder).
-fn folder_exists(path: &Path, what: &str) -> Result<(), BoxError> {
+pub(crate) fn folder_exists(path: &Path, what: &str) -> Result<(), BoxError> {
     let folder = match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),

@@ -142,3 +142,17 @@ fn report_over_the_input_is_refused() {
         "the input is untouched"
     );
 }
+
+#[test]
+fn report_in_a_missing_folder_is_refused_before_the_battery() {
+    let dir = TempDir::new("check", "missing-folder");
+    let out = algesurf(dir.path(), &["check", "--json", "missing/report.json"]);
+    assert_eq!(out.status.code(), Some(1), "{}", text(&out));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("the folder missing does not exist"),
+        "{stderr}"
+    );
+    // Nothing was built or measured: no table on stdout.
+    assert!(out.stdout.is_empty(), "{}", text(&out));
+}
