@@ -247,6 +247,40 @@ impl ApatchSurface {
     /// two faces at that edge are refined ([`SimplicialHull::refine_faces`]) and F is built
     /// again, at most [`MAX_UNLIFTABLE_EDGE_REFINEMENTS`] times.
     ///
+    /// # A mesh far from the origin
+    /// Everything is computed in the mesh's own coordinates, so a mesh of size `d` at
+    /// distance `D ≫ d` from the origin works with coordinates rounded to `ε·D/d` of its size,
+    /// and a split face's apexes and centroid stop being collinear to the ~1e-8 its C1
+    /// constraints need: the corpus's cow and Suzanne moved by 1000, and a torus of radius 2
+    /// moved by 10⁵, failed with [`ApatchError::Degenerate`] ("the split-face constraints are
+    /// inconsistent"), and the C1 figures grew in proportion to `D` before that. Build such a
+    /// mesh about an origin near it, moved to exactly, and move the results back, as
+    /// `algesurf smooth` does:
+    ///
+    /// ```
+    /// use algesurf_apatch::{ApatchSurface, SurfaceOptions};
+    /// use algesurf_mesh::{NormalMethod, shapes, vertex_normals};
+    /// use glam::DVec3;
+    ///
+    /// let mut mesh = shapes::torus(24, 12, 1.5, 0.6);
+    /// for p in mesh.positions_mut() {
+    ///     *p += DVec3::new(1e5, -1e5, 1e5); // where the mesh is in the user's file
+    /// }
+    /// // An origin near the mesh that the positions move to and back from without rounding.
+    /// let origin = mesh.bounding_box().exact_local_origin();
+    /// for p in mesh.positions_mut() {
+    ///     *p -= origin;
+    /// }
+    /// let normals = vertex_normals(&mesh, NormalMethod::Loop)?;
+    /// let surface = ApatchSurface::new(&mesh, &normals, &SurfaceOptions::default())?;
+    /// let mut tess = surface.tessellate(3, 2)?;
+    /// for p in &mut tess.positions {
+    ///     *p += origin; // back in the user's coordinates
+    /// }
+    /// assert!(tess.positions.iter().all(|p| (p.x - 1e5).abs() < 3.0));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    ///
     /// # Errors
     /// [`ApatchError::Hull`] when the hull cannot be built; [`ApatchError::UnliftableEdgeRay`]
     /// when an edge A-patch is still unliftable after the refinements; the other variants of

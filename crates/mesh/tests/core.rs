@@ -522,3 +522,56 @@ fn face_components_are_the_edge_connected_sets_numbered_by_lowest_face() {
         assert_eq!(topo.face_components(), want, "case {case}: {tris:?}");
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    /// `Aabb::exact_local_origin` moves a far box's points exactly: `p − o` is exact (then
+    /// `p − (p − o)` gives `o` back) and `(p − o) + o` is `p`, for boxes of any size at any
+    /// distance, on either side of the origin, and for every point of the box (its corners
+    /// and points inside).
+    #[test]
+    fn the_local_origin_of_a_far_box_is_an_exact_move(
+        centre in prop::array::uniform3(-1e12f64..1e12),
+        log_size in -8.0f64..6.0,
+        seed in 0u64..1000,
+    ) {
+        let mut u = uniform(seed);
+        let size = 10f64.powf(log_size);
+        let c = DVec3::from_array(centre);
+        let points: Vec<DVec3> = (0..64)
+            .map(|_| c + size * DVec3::new(u() - 0.5, u() - 0.5, u() - 0.5))
+            .collect();
+        let b = algesurf_mesh::Aabb::from_points(&points);
+        let o = b.exact_local_origin();
+        for p in points.iter().copied().chain([b.min, b.max]) {
+            let d = p - o;
+            prop_assert_eq!(d + o, p);
+            prop_assert_eq!(p - d, o);
+            // The local coordinates are no larger than the box (the far axes are moved).
+            for k in 0..3 {
+                if o[k] != 0.0 {
+                    prop_assert!(d[k].abs() <= b.diagonal(), "{:?} {:?}", d, b);
+                }
+            }
+        }
+        // Far axes are moved: a box farther than its diagonal from 0 in an axis.
+        let mid = (b.min + b.max) * 0.5;
+        for k in 0..3 {
+            if mid[k].abs() > 4.0 * b.diagonal() {
+                prop_assert!(o[k] != 0.0, "axis {} of {:?}", k, b);
+            }
+        }
+    }
+}
+
+#[test]
+fn boxes_near_the_origin_keep_it() {
+    let near = algesurf_mesh::Aabb::new(DVec3::new(-1.0, 0.5, 1.0), DVec3::new(1.0, 1.5, 2.0));
+    // y and z are within the diagonal (√6 ≈ 2.45) of 0; x straddles it.
+    assert_eq!(near.exact_local_origin(), DVec3::ZERO);
+    assert_eq!(algesurf_mesh::Aabb::EMPTY.exact_local_origin(), DVec3::ZERO);
+    // A flat mesh at z = 1000: its z axis is moved to 0 exactly.
+    let flat = algesurf_mesh::Aabb::new(DVec3::new(0.0, 0.0, 1000.0), DVec3::new(1.0, 1.0, 1000.0));
+    assert_eq!(flat.exact_local_origin(), DVec3::new(0.0, 0.0, 1000.0));
+}
