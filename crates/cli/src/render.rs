@@ -185,7 +185,7 @@ pub fn run(args: &RenderArgs) -> Result<(), BoxError> {
         Vec::new()
     };
     let (mesh, source, wire_tolerance) = if args.smooth {
-        let s = build(args.input.as_deref(), &args.surface, false)?;
+        let mut s = build(args.input.as_deref(), &args.surface, false)?;
         let name = args
             .input
             .as_ref()
@@ -194,10 +194,12 @@ pub fn run(args: &RenderArgs) -> Result<(), BoxError> {
             .grid
             .fitting_steps(&s.surface)
             .map_err(|e| format!("{name}: {e}"))?;
-        let tess = s
+        let mut tess = s
             .surface
             .tessellate(n, m)
             .map_err(|e| format!("{name}: cannot tessellate at resolution {n} × {m}: {e}"))?;
+        // In the input's coordinates, which an explicit camera (--eye, --target) is given in.
+        crate::smooth::to_input_coordinates(s.origin, &mut s.tri, &mut tess.positions);
         let mut mesh = RenderMesh::from(&tess);
         // The input (control) mesh's edges are chords of the surface: on convex parts they
         // lie inside it by the chord sag (0.15 of the radius for the icosahedron, 4 % of the

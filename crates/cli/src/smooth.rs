@@ -23,6 +23,7 @@ use algesurf_mesh::{
     NormalMethod, PolygonMesh, Property, PropertyValues, RepairOptions, RepairReport, TriMesh,
     repair, shapes, vertex_normals,
 };
+use glam::DVec3;
 use rayon::prelude::*;
 use serde_json::json;
 
@@ -372,6 +373,24 @@ pub(crate) struct Built {
     pub repair_json: serde_json::Value,
     /// Seconds of read, repair, normals, hull, function and construction.
     timings: Timings,
+    /// Where `tri` and `surface` have their origin in the input's coordinates
+    /// ([`algesurf_mesh::Aabb::exact_local_origin`]): zero unless the input lies far from the origin for its
+    /// size. [`to_input_coordinates`] moves results back.
+    pub origin: DVec3,
+}
+
+/// Moves the mesh `tri` and the surface points `points` from the build's coordinates back to
+/// the input's, by the build's `origin`: the input's vertices come back bit for bit (the move
+/// there was exact), the surface points rounded once at the input's scale. Nothing to do for
+/// an input near the origin (the corpus, the benchmark's bunny).
+pub(crate) fn to_input_coordinates(origin: DVec3, tri: &mut TriMesh, points: &mut [DVec3]) {
+    if origin == DVec3::ZERO {
+        return;
+    }
+    for p in tri.positions_mut() {
+        *p += origin;
+    }
+    points.par_iter_mut().for_each(|p| *p += origin);
 }
 
 /// The name of the input in messages: its path, or the built-in mesh's description.
@@ -443,6 +462,17 @@ pub(crate) fn build(
             json!({ "changed": false, "summary": "no repairs needed" }),
         ),
     };
+    // A mesh far from the origin for its size is built about an origin near it, moved to
+    // exactly (`Aabb::exact_local_origin`): its absolute coordinates' rounding, relative to
+    // the mesh, grows with the distance, and the cow moved by 1000 failed to build. The
+    // results are moved back by the callers (`to_input_coordinates`).
+    let mut tri = tri;
+    let origin = tri.bounding_box().exact_local_origin();
+    if origin != DVec3::ZERO {
+        for p in tri.positions_mut() {
+            *p -= origin;
+        }
+    }
     let (normals, dt, faults) = measured("normals", progress, || {
         vertex_normals(&tri, args.normals.method())
     });
@@ -495,6 +525,7 @@ pub(crate) fn build(
         repair_text,
         repair_json,
         timings: t,
+        origin,
     })
 }
 
@@ -574,11 +605,12 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
         folder_exists(report, "report")?;
     }
     let Built {
-        tri,
+        mut tri,
         surface,
         repair_text,
         repair_json,
         timings,
+        origin,
     } = build(args.input.as_deref(), &args.surface, progress)?;
     let mut t = timings;
     let refinements = surface.hull().refinements().len();
@@ -598,6 +630,8 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
     (t.tessellation, t.faults.tessellation) = (dt, faults);
     let mut tess =
         tess.map_err(|e| format!("{source}: cannot tessellate at resolution {n} × {m}: {e}"))?;
+    // The output, and the deviation measured on it, in the input's coordinates.
+    to_input_coordinates(origin, &mut tri, &mut tess.positions);
 
     let min_margin = surface
         .free_parameters()

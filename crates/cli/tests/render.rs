@@ -178,3 +178,54 @@ fn render_writes_the_same_bytes_on_one_thread_and_on_two() {
     }
     assert_eq!(files[0], files[1]);
 }
+
+/// `--smooth` builds a far mesh about an origin near it (see `smooth`'s test of a far
+/// torus) and renders it in the input's coordinates, which `--eye` and `--target` are given
+/// in: the torus moved by 10⁵ (where it failed to build) looks as the torus does from the
+/// same relative camera.
+#[test]
+fn render_smooth_of_a_far_mesh_takes_the_camera_in_the_input_coordinates() {
+    let dir = TempDir::new("render", "far");
+    let offset = glam::DVec3::new(1e5, -1e5, 1e5);
+    let mut covered = Vec::new();
+    for (name, shift) in [("near", glam::DVec3::ZERO), ("far", offset)] {
+        let mut mesh = shapes::torus(24, 12, 1.5, 0.6).to_polygon_mesh();
+        for p in &mut mesh.positions {
+            *p += shift;
+        }
+        let obj = dir.path().join(format!("{name}.obj"));
+        algesurf_io::write(&obj, &mesh, &algesurf_io::WriteOptions::default()).expect("write");
+        let (eye, target) = (shift + glam::DVec3::new(0.0, -6.0, 4.0), shift);
+        let xyz = |p: glam::DVec3| format!("{:?},{:?},{:?}", p.x, p.y, p.z);
+        let png = format!("{name}.png");
+        let out = algesurf(
+            dir.path(),
+            &[
+                "render",
+                obj.to_str().unwrap(),
+                "-o",
+                &png,
+                "--smooth",
+                "--size",
+                "160x120",
+                "--eye",
+                &xyz(eye),
+                "--target",
+                &xyz(target),
+                "--up",
+                "0,0,1",
+            ],
+        );
+        assert!(out.status.success(), "{name}: {}", text(&out));
+        covered.push(png_summary(&dir.path().join(&png)).2);
+    }
+    let (near, far) = (covered[0], covered[1]);
+    assert!(
+        near > 2000,
+        "the torus fills part of the view ({near} pixels)"
+    );
+    assert!(
+        near.abs_diff(far) * 200 <= near,
+        "near {near} and far {far} pixels covered"
+    );
+}
