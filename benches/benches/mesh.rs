@@ -103,3 +103,16 @@ fn closest_point_1m_queries(bencher: Bencher) {
         black_box(acc)
     });
 }
+
+/// Butterfly limit normals of a mesh with two vertices of valence 256 (`shapes::bicone(256,
+/// 0.05)`: two flat fans and a sharp rim, whose normals `--normals auto` takes from the
+/// Butterfly surface): each rim vertex's cut-out holds a whole fan. The stencil of a
+/// high-valence vertex through its ring's sums (`butterfly_ring`) made this quadratic in the
+/// valence instead of cubic.
+#[divan::bench(sample_count = 5)]
+fn butterfly_normals_of_fans_of_valence_256(bencher: Bencher) {
+    let mesh = algesurf::mesh::shapes::bicone(256, 0.05);
+    bencher.bench_local(|| {
+        vertex_normals(black_box(&mesh), NormalMethod::Butterfly).expect("normals")
+    });
+}

@@ -57,6 +57,7 @@ pub mod validate;
 pub use repair::{RepairOptions, RepairReport, Repaired, repair};
 pub use validate::{Finding, ValidationOptions, ValidationReport, validate, validate_with};
 mod butterfly_normal;
+mod butterfly_ring;
 pub use butterfly_normal::{BUTTERFLY_NORMAL_LEVELS, butterfly_limit_normal};
 mod folds;
 pub mod normals;

@@ -7,6 +7,7 @@
 //! first appear when the faces are scanned with edges `ab, bc, ca` (libigl's `igl::loop` order).
 //! Subdivision needs a manifold mesh (every edge at most two faces, every vertex one fan).
 
+use crate::butterfly_ring::ButterflyRing;
 use crate::topology::{Fan, Topology};
 use crate::{MeshError, TriMesh};
 use glam::DVec3;
@@ -236,8 +237,8 @@ pub(crate) fn butterfly_edge_points(mesh: &TriMesh) -> Result<Vec<DVec3>, MeshEr
     // Each vertex's ring once, not once for each of its edges: an edge point reads both its
     // ends' rings, and building a ring (`Topology::fans`) was most of an edge point's cost
     // (~6.5 k instructions each on the Butterfly normals' cut-outs, `callgrind`).
-    let rings: Vec<Option<Fan>> = (0..mesh.vertex_count() as u32)
-        .map(|v| mesh.one_ring(v))
+    let rings: Vec<ButterflyRing> = (0..mesh.vertex_count() as u32)
+        .map(|v| ButterflyRing::of(mesh, v))
         .collect();
     let t = mesh.topology();
     let edges: Vec<DVec3> = (0..t.edge_count() as u32)
@@ -269,8 +270,17 @@ fn wing(mesh: &TriMesh, f: u32, x: u32, y: u32) -> DVec3 {
 /// `3/4 v + Σ s_j p_j`, with `p_0 = to` and the ring in cyclic order, where
 /// `s_j = (1/4 + cos(2πj/k) + 1/2 cos(4πj/k)) / k` for `k ≥ 5`, `(5/12, −1/12, −1/12)` for
 /// `k = 3` and `(3/8, 0, −1/8, 0)` for `k = 4`.
-fn extraordinary(mesh: &TriMesh, v: u32, to: u32, ring: &[u32]) -> DVec3 {
+fn extraordinary(mesh: &TriMesh, v: u32, to: u32, ring: &ButterflyRing) -> DVec3 {
     let p = mesh.positions();
+    // Valence ≥ 33: through the ring's sums, O(1) per edge (`butterfly_ring`).
+    if let Some(point) = ring
+        .fourier
+        .as_ref()
+        .and_then(|f| f.edge_point(p[v as usize], to))
+    {
+        return point;
+    }
+    let ring = ring.neighbors();
     let k = ring.len();
     let start = ring.iter().position(|&u| u == to).unwrap_or(0);
     let mut s = 0.75 * p[v as usize];
@@ -329,12 +339,23 @@ fn extraordinary_weights() -> &'static [Vec<f64>] {
 /// Every rule's weights sum to one and reproduce planes, so a flat mesh stays flat.
 pub fn butterfly_edge_point(mesh: &TriMesh, e: u32) -> DVec3 {
     let [a, b] = mesh.topology().edge(e);
-    edge_point_with_rings(mesh, e, &mesh.one_ring(a), &mesh.one_ring(b))
+    edge_point_with_rings(
+        mesh,
+        e,
+        &ButterflyRing::of(mesh, a),
+        &ButterflyRing::of(mesh, b),
+    )
 }
 
-/// [`butterfly_edge_point`] of edge `e = [a, b]` given `a`'s and `b`'s one-rings
-/// ([`TriMesh::one_ring`]).
-fn edge_point_with_rings(mesh: &TriMesh, e: u32, ra: &Option<Fan>, rb: &Option<Fan>) -> DVec3 {
+/// [`butterfly_edge_point`] of edge `e = [a, b]` given `a`'s and `b`'s rings
+/// ([`ButterflyRing::of`]).
+fn edge_point_with_rings(
+    mesh: &TriMesh,
+    e: u32,
+    ring_a: &ButterflyRing,
+    ring_b: &ButterflyRing,
+) -> DVec3 {
+    let (ra, rb) = (&ring_a.fan, &ring_b.fan);
     let t = mesh.topology();
     let [a, b] = t.edge(e);
     let p = mesh.positions();
@@ -372,8 +393,8 @@ fn edge_point_with_rings(mesh: &TriMesh, e: u32, ra: &Option<Fan>, rb: &Option<F
                 ra.as_ref().map_or(0, |r| r.neighbors.len()),
                 rb.as_ref().map_or(0, |r| r.neighbors.len()),
             );
-            let sa = || extraordinary(mesh, a, b, ra.as_ref().map_or(&[], |r| &r.neighbors));
-            let sb = || extraordinary(mesh, b, a, rb.as_ref().map_or(&[], |r| &r.neighbors));
+            let sa = || extraordinary(mesh, a, b, ring_a);
+            let sb = || extraordinary(mesh, b, a, ring_b);
             match (na == 6, nb == 6) {
                 (true, true) => butterfly(),
                 (false, true) => sa(),
@@ -381,8 +402,8 @@ fn edge_point_with_rings(mesh: &TriMesh, e: u32, ra: &Option<Fan>, rb: &Option<F
                 (false, false) => 0.5 * (sa() + sb()),
             }
         }
-        (true, false) => extraordinary(mesh, a, b, ra.as_ref().map_or(&[], |r| &r.neighbors)),
-        (false, true) => extraordinary(mesh, b, a, rb.as_ref().map_or(&[], |r| &r.neighbors)),
+        (true, false) => extraordinary(mesh, a, b, ring_a),
+        (false, true) => extraordinary(mesh, b, a, ring_b),
         (false, false) => butterfly(),
     }
 }
