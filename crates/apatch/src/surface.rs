@@ -418,6 +418,13 @@ fn build_face(
     let mids = [0, 1, 2].map(|a| (g[(a + 1) % 3] + g[(a + 2) % 3]) * 0.5);
     let scale = coefficient_scale(p, g).max(f64::MIN_POSITIVE);
     let margin = options.sheet_margin * scale;
+    // A zero-convex face is its own patch (the plane through it) and takes no free
+    // parameter, so no fit: its neighbourhood is coplanar in a flat region, which sent every
+    // fit there to the SVD (a flat 300 × 300 grid spent 1.4 s of its 1.5 s function stage in
+    // fits whose result was not used).
+    if hf.convexity == Convexity::ZeroConvex {
+        return Ok((FaceFunction::Planar, Vec::new()));
+    }
     let quadric = match options.free_parameters {
         FreeParameterRule::Quadric => Quadric::fit(&neighbourhood(m, grads, f))?,
         FreeParameterRule::Linear => {
@@ -447,6 +454,7 @@ fn build_face(
         scale,
     };
     match hf.convexity {
+        // Returned above, before the fit.
         Convexity::ZeroConvex => Ok((FaceFunction::Planar, Vec::new())),
         Convexity::PositiveConvex | Convexity::NegativeConvex => {
             let side = if hf.convexity == Convexity::PositiveConvex {
