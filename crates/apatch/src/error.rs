@@ -42,4 +42,55 @@ pub enum ApatchError {
     /// Two tetrahedra that must share a face do not.
     #[error("inconsistent hull: {0}")]
     Inconsistent(String),
+    /// Building F on one face of the hull failed (a degenerate sub-tetrahedron of a sliver
+    /// face, a fit, inconsistent split-face constraints), with the face named: the hull's own
+    /// id (of its possibly refined mesh) and the input face it lies on.
+    #[error("hull face {face} (on input face {input_face}): {source}")]
+    AtFace {
+        /// The hull face.
+        face: u32,
+        /// The input face it lies on.
+        input_face: u32,
+        /// What went wrong there.
+        source: Box<ApatchError>,
+    },
+    /// Building the edge cubics of one edge of the hull failed, with the edge named.
+    #[error(
+        "hull edge ({}, {}) between input faces {} and {}: {source}",
+        vertices[0], vertices[1], faces[0], faces[1]
+    )]
+    AtEdge {
+        /// The hull edge's vertex ids (of the hull's possibly refined mesh).
+        vertices: [u32; 2],
+        /// The input faces of the edge's two faces.
+        faces: [u32; 2],
+        /// What went wrong there.
+        source: Box<ApatchError>,
+    },
+}
+
+impl ApatchError {
+    /// This error with hull face `f` of `hull` named ([`ApatchError::AtFace`]).
+    pub(crate) fn at_face(self, hull: &algesurf_hull::SimplicialHull, f: usize) -> ApatchError {
+        ApatchError::AtFace {
+            face: f as u32,
+            input_face: hull.faces()[f].source_face,
+            source: Box::new(self),
+        }
+    }
+
+    /// This error with hull edge `e` of `hull` named ([`ApatchError::AtEdge`]); errors
+    /// that name their edge already ([`ApatchError::UnliftableEdgeRay`]) stay as they are.
+    pub(crate) fn at_edge(self, hull: &algesurf_hull::SimplicialHull, e: usize) -> ApatchError {
+        if matches!(self, ApatchError::UnliftableEdgeRay { .. }) {
+            return self;
+        }
+        let he = &hull.edges()[e];
+        let face = |f: u32| hull.faces()[f as usize].source_face;
+        ApatchError::AtEdge {
+            vertices: he.vertices,
+            faces: [face(he.face_k), he.face_l.map_or(u32::MAX, face)],
+            source: Box::new(self),
+        }
+    }
 }

@@ -504,7 +504,7 @@ fn build_face(
             let mut split = SplitFace::new(v, &apexes, mids, &quadric, &values)?;
             if split.constraint_residual > 1e-8 {
                 return Err(ApatchError::Degenerate(format!(
-                    "face {f}: the split-face constraints are inconsistent (residual {:e})",
+                    "the split-face constraints are inconsistent (residual {:e})",
                     split.constraint_residual
                 )));
             }
@@ -566,7 +566,7 @@ fn build_edges(
             }
             let cubic = |present: bool, side| {
                 present
-                    .then(|| edge_cubic(hull, faces, i, side))
+                    .then(|| edge_cubic(hull, faces, i, side).map_err(|err| err.at_edge(hull, i)))
                     .transpose()
             };
             Ok([
@@ -626,7 +626,8 @@ fn rebuild_raised_edges(
                 let raised = raise.contains_key(&(e.face_k as usize, side))
                     || raise.contains_key(&(fl as usize, side));
                 if raised && slots[slot].is_some() {
-                    slots[slot] = Some(edge_cubic(hull, faces, i, side)?);
+                    slots[slot] =
+                        Some(edge_cubic(hull, faces, i, side).map_err(|err| err.at_edge(hull, i))?);
                 }
             }
             Ok(())
@@ -837,7 +838,7 @@ fn build_function(
     // The first error in face order, whatever the thread count.
     let built = collect_first_error(
         m.face_count(),
-        |f| build_face(hull, f, grads, pos, options),
+        |f| build_face(hull, f, grads, pos, options).map_err(|e| e.at_face(hull, f)),
         || (FaceFunction::Planar, Vec::new()),
     )?;
     let (mut faces, parameters): (Vec<FaceFunction>, Vec<Vec<FreeParameter>>) =

@@ -217,3 +217,39 @@ fn ellipsoid_is_recovered_from_its_gradients() {
         .fold(0.0, f64::max);
     assert!(worst <= 1e-10, "max |‖p/axes‖ − 1| = {worst:e}");
 }
+
+/// A sliver face (a corner 1e-9 of its height from the opposite edge: twice its area over
+/// its longest edge squared is ~2e-9, above repair's degenerate-area threshold) makes
+/// tetrahedra below `Simplex`'s tolerance; the error names the hull face and the input face
+/// it lies on, around the degenerate simplex (it named neither).
+#[test]
+fn a_degenerate_tetrahedron_on_a_sliver_face_names_the_face() {
+    let torus = algesurf_mesh::shapes::torus(24, 12, 1.5, 0.6);
+    let [a, b, c] = torus.triangles()[0];
+    let mut positions = torus.positions().to_vec();
+    let mid = (positions[b as usize] + positions[c as usize]) * 0.5;
+    positions[a as usize] = mid + 1e-9 * (positions[a as usize] - mid);
+    let mesh = TriMesh::new(positions, torus.triangles().to_vec()).unwrap();
+    let normals = algesurf_mesh::vertex_normals(&mesh, algesurf_mesh::NormalMethod::Loop).unwrap();
+    let e = ApatchSurface::new(&mesh, &normals, &SurfaceOptions::default())
+        .err()
+        .expect("the sliver's tetrahedra are degenerate");
+    match &e {
+        algesurf_apatch::ApatchError::AtFace {
+            input_face, source, ..
+        } => {
+            assert_eq!(*input_face, 0, "{e}");
+            assert!(
+                matches!(
+                    **source,
+                    algesurf_apatch::ApatchError::Bb(
+                        algesurf_bb::BbError::DegenerateSimplex { .. }
+                    )
+                ),
+                "{e}"
+            );
+        }
+        other => panic!("expected the face named: {other}"),
+    }
+    assert!(e.to_string().starts_with("hull face "), "{e}");
+}

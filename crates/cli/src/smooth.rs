@@ -515,7 +515,10 @@ pub(crate) fn build(
             };
             format!("{source}: cannot build the simplicial hull: {e}{ids_note}{hint}")
         }
-        e => format!("{source}: cannot build the surface: {e}{ids_note}"),
+        e => {
+            let hint = sliver_hint(&tri, &e);
+            format!("{source}: cannot build the surface: {e}{ids_note}{hint}")
+        }
     })?;
     t.hull = surface.timings().hull.as_secs_f64();
     t.function = surface.timings().function.as_secs_f64();
@@ -527,6 +530,41 @@ pub(crate) fn build(
         timings: t,
         origin,
     })
+}
+
+/// Where a tetrahedron on an input face came out degenerate and the face itself is a sliver
+/// (twice its area over its longest edge squared below 1e-6: a needle or a cap), says so:
+/// the face's tetrahedra inherit its shape, and `Simplex`'s tolerance (1e-10 of the longest
+/// edge cubed) rejects them before the face's own area reaches repair's degenerate-face
+/// threshold (1e-14 of the bounding box's diagonal squared). Empty otherwise.
+fn sliver_hint(tri: &TriMesh, e: &ApatchError) -> String {
+    let ApatchError::AtFace {
+        input_face, source, ..
+    } = e
+    else {
+        return String::new();
+    };
+    if !matches!(
+        **source,
+        ApatchError::Bb(algesurf::bb::BbError::DegenerateSimplex { .. })
+    ) {
+        return String::new();
+    }
+    let Some(&[a, b, c]) = tri.triangles().get(*input_face as usize) else {
+        return String::new();
+    };
+    let p = tri.positions();
+    let (a, b, c) = (p[a as usize], p[b as usize], p[c as usize]);
+    let longest = a.distance(b).max(b.distance(c)).max(c.distance(a));
+    let shape = (b - a).cross(c - a).length() / (longest * longest);
+    if shape < 1e-6 {
+        format!(
+            " (input face {input_face} is a sliver: twice its area over its longest edge squared \
+             is {shape:.1e}; collapse its short edge or remesh there)"
+        )
+    } else {
+        String::new()
+    }
 }
 
 /// What to try when refinement could not separate the hull's tetrahedra and the command ran

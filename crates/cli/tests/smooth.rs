@@ -523,3 +523,28 @@ fn a_mesh_far_from_the_origin_smooths_as_at_the_origin() {
         assert!(f <= 1e-13, "{key}: far {f:e} (near {n:e})");
     }
 }
+
+/// A sliver face whose tetrahedra come out degenerate: the error names the input face and
+/// says it is a sliver, with its shape (it named no face), and nothing is written.
+#[test]
+fn a_sliver_face_is_named_as_such() {
+    let dir = TempDir::new("smooth", "sliver");
+    let torus = shapes::torus(24, 12, 1.5, 0.6);
+    let [a, b, c] = torus.triangles()[0];
+    let mut positions = torus.positions().to_vec();
+    let mid = (positions[b as usize] + positions[c as usize]) * 0.5;
+    positions[a as usize] = mid + 1e-9 * (positions[a as usize] - mid);
+    let mesh = PolygonMesh::from_triangles(positions, torus.triangles());
+    algesurf_io::write(
+        dir.path().join("sliver.obj"),
+        &mesh,
+        &algesurf_io::WriteOptions::default(),
+    )
+    .unwrap();
+    let out = algesurf(dir.path(), &["smooth", "sliver.obj", "-o", "out.ply"]);
+    assert!(!out.status.success(), "{}", text(&out));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("(on input face 0)"), "{err}");
+    assert!(err.contains("input face 0 is a sliver"), "{err}");
+    assert!(!dir.path().join("out.ply").exists());
+}
