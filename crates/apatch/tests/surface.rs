@@ -231,9 +231,9 @@ fn a_degenerate_tetrahedron_on_a_sliver_face_names_the_face() {
     positions[a as usize] = mid + 1e-9 * (positions[a as usize] - mid);
     let mesh = TriMesh::new(positions, torus.triangles().to_vec()).unwrap();
     let normals = algesurf_mesh::vertex_normals(&mesh, algesurf_mesh::NormalMethod::Loop).unwrap();
-    let e = ApatchSurface::new(&mesh, &normals, &SurfaceOptions::default())
-        .err()
-        .expect("the sliver's tetrahedra are degenerate");
+    let Err(e) = ApatchSurface::new(&mesh, &normals, &SurfaceOptions::default()) else {
+        panic!("the sliver's tetrahedra are degenerate");
+    };
     match &e {
         algesurf_apatch::ApatchError::AtFace {
             input_face, source, ..
