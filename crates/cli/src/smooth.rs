@@ -373,6 +373,10 @@ pub(crate) struct Built {
     pub repair_json: serde_json::Value,
     /// Seconds of read, repair, normals, hull, function and construction.
     timings: Timings,
+    /// With `--normals file`: the vertices whose file normals were zero or not finite
+    /// (replaced by the area-weighted normal) and those pointing against their faces
+    /// (reversed), [`algesurf_mesh::file_normal_changes`]; empty otherwise.
+    pub file_normals: (Vec<u32>, Vec<u32>),
     /// Where `tri` and `surface` have their origin in the input's coordinates
     /// ([`algesurf_mesh::Aabb::exact_local_origin`]): zero unless the input lies far from the origin for its
     /// size. [`to_input_coordinates`] moves results back.
@@ -485,6 +489,11 @@ pub(crate) fn build(
         };
         format!("{source}: cannot compute normals: {e}{hint}")
     })?;
+    let file_normals = if args.normals == SmoothNormals::File {
+        algesurf_mesh::file_normal_changes(&tri).unwrap_or_default()
+    } else {
+        Default::default()
+    };
 
     let options = SurfaceOptions {
         free_parameters: args.free_parameters.rule(),
@@ -528,6 +537,7 @@ pub(crate) fn build(
         repair_text,
         repair_json,
         timings: t,
+        file_normals,
         origin,
     })
 }
@@ -648,6 +658,7 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
         repair_text,
         repair_json,
         timings,
+        file_normals,
         origin,
     } = build(args.input.as_deref(), &args.surface, progress)?;
     let mut t = timings;
@@ -762,6 +773,11 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
             "faces": tri.face_count(),
             "euler_characteristic": tri.euler_characteristic(),
         },
+        "adjusted_normals": surface.adjusted_normals(),
+        "file_normals": {
+            "replaced": &file_normals.0,
+            "reversed": &file_normals.1,
+        },
         "repair": repair_json,
         "hull": {
             "faces": hull_faces,
@@ -835,6 +851,44 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
             tri.face_count(),
             tri.vertex_count()
         );
+        // Up to eight ids, then an ellipsis.
+        let ids = |v: &[u32]| {
+            let shown: Vec<String> = v.iter().take(8).map(u32::to_string).collect();
+            format!(
+                "{}{}",
+                shown.join(", "),
+                if v.len() > 8 { ", …" } else { "" }
+            )
+        };
+        let (replaced, reversed) = &file_normals;
+        if !replaced.is_empty() {
+            let _ = writeln!(
+                s,
+                "file normals: {} zero or not finite, replaced by the area-weighted normal (vertices {})",
+                replaced.len(),
+                ids(replaced)
+            );
+        }
+        if !reversed.is_empty() {
+            let _ = writeln!(
+                s,
+                "file normals: {} pointing against their faces, reversed (vertices {})",
+                reversed.len(),
+                ids(reversed)
+            );
+        }
+        let adjusted = surface.adjusted_normals();
+        if !adjusted.is_empty() {
+            // A normal at or past 84° from a face at its vertex (or a NaN or zero one from a
+            // file) is moved into its faces' cone before the hull is built: say so, as the
+            // surface no longer has that normal there.
+            let _ = writeln!(
+                s,
+                "normals: {} adjusted into their faces' cone (vertices {})",
+                adjusted.len(),
+                ids(adjusted)
+            );
+        }
         if let Some([f, g]) = crossings.first() {
             let _ = writeln!(
                 s,

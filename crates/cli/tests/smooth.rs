@@ -548,3 +548,60 @@ fn a_sliver_face_is_named_as_such() {
     assert!(err.contains("input face 0 is a sliver"), "{err}");
     assert!(!dir.path().join("out.ply").exists());
 }
+
+/// File normals that `--normals file` does not take as given are reported, in the summary
+/// and the report: a NaN one (replaced by the area-weighted normal) and one pointing into
+/// the sphere (reversed). Both were replaced silently.
+#[test]
+fn file_normals_that_are_replaced_or_reversed_are_reported() {
+    let dir = TempDir::new("smooth", "file-normals");
+    let obj = icosphere_obj(1)
+        .lines()
+        .enumerate()
+        .map(|(i, line)| {
+            // The icosphere(1) has 42 vertices: `vn` lines 42.. (vertex 3 NaN, vertex 7 inward).
+            match i {
+                45 => "vn NaN 0 1".to_string(),
+                49 => {
+                    let n: Vec<f64> = line[3..]
+                        .split_whitespace()
+                        .map(|x| -x.parse::<f64>().unwrap())
+                        .collect();
+                    format!("vn {:?} {:?} {:?}", n[0], n[1], n[2])
+                }
+                _ => line.to_string(),
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    std::fs::write(dir.path().join("ico.obj"), obj).unwrap();
+    let out = algesurf(
+        dir.path(),
+        &[
+            "smooth",
+            "ico.obj",
+            "-o",
+            "out.ply",
+            "--normals",
+            "file",
+            "--report",
+            "r.json",
+        ],
+    );
+    assert!(out.status.success(), "{}", text(&out));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        stdout.contains(
+            "file normals: 1 zero or not finite, replaced by the area-weighted normal (vertices 3)"
+        ),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("file normals: 1 pointing against their faces, reversed (vertices 7)"),
+        "{stdout}"
+    );
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("r.json")).unwrap()).unwrap();
+    assert_eq!(report["file_normals"]["replaced"], serde_json::json!([3]));
+    assert_eq!(report["file_normals"]["reversed"], serde_json::json!([7]));
+}

@@ -64,8 +64,8 @@ pub mod normals;
 pub mod parallel;
 pub use normals::{
     DEFAULT_MIN_NORMAL_COSINE, NormalMethod, STEEP_NORMAL_DEGREES, condition_normals,
-    condition_vertex_normals, cone_axis, face_cone_axis, loop_limit_normal, unit_face_normals,
-    vertex_normals,
+    condition_vertex_normals, cone_axis, face_cone_axis, file_normal_changes, loop_limit_normal,
+    unit_face_normals, vertex_normals,
 };
 pub mod shapes;
 pub mod subdivision;

@@ -194,20 +194,67 @@ pub fn vertex_normals(mesh: &TriMesh, method: NormalMethod) -> Result<Vec<DVec3>
             })?;
             file.iter()
                 .zip(&area)
-                .map(|(&n, &a)| {
-                    let u = unit_or_zero(n);
-                    if u == DVec3::ZERO {
-                        unit_or_zero(a)
-                    } else if u.dot(a) < 0.0 {
-                        -u
-                    } else {
-                        u
-                    }
-                })
+                .map(|(&n, &a)| from_file(n, a).0)
                 .collect()
         }
     };
     Ok(out)
+}
+
+/// What [`NormalMethod::FromFile`] did with a file normal `n` at a vertex whose summed
+/// area-weighted face normal is `area`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum FileNormal {
+    Kept,
+    /// Zero or not finite: replaced by the area-weighted normal.
+    Replaced,
+    /// Pointing against the faces: reversed.
+    Reversed,
+}
+
+/// The unit normal [`NormalMethod::FromFile`] takes for file normal `n` and area sum `area`.
+fn from_file(n: DVec3, area: DVec3) -> (DVec3, FileNormal) {
+    let u = unit_or_zero(n);
+    if u == DVec3::ZERO {
+        (unit_or_zero(area), FileNormal::Replaced)
+    } else if u.dot(area) < 0.0 {
+        (-u, FileNormal::Reversed)
+    } else {
+        (u, FileNormal::Kept)
+    }
+}
+
+/// The vertices whose file normals [`vertex_normals`] with [`NormalMethod::FromFile`] does not
+/// take as given, `(replaced, reversed)`: zero or non-finite ones, replaced by the
+/// area-weighted normal, and ones pointing against their faces (against the area-weighted
+/// normal), reversed. `None` when the mesh carries no normals. For reporting what a file's
+/// normals became: the command-line tool says so, as the surface does not have those normals
+/// there.
+///
+/// ```
+/// use algesurf_mesh::{file_normal_changes, shapes};
+/// use glam::DVec3;
+///
+/// let mut m = shapes::octahedron();
+/// let mut normals: Vec<DVec3> = m.positions().iter().map(|p| p.normalize()).collect();
+/// normals[1] = DVec3::ZERO;
+/// normals[2] = -normals[2];
+/// m.set_file_normals(Some(normals))?;
+/// assert_eq!(file_normal_changes(&m), Some((vec![1], vec![2])));
+/// # Ok::<(), algesurf_mesh::MeshError>(())
+/// ```
+pub fn file_normal_changes(mesh: &TriMesh) -> Option<(Vec<u32>, Vec<u32>)> {
+    let file = mesh.file_normals()?;
+    let area = area_sums(mesh);
+    let (mut replaced, mut reversed) = (Vec::new(), Vec::new());
+    for (v, (&n, &a)) in file.iter().zip(&area).enumerate() {
+        match from_file(n, a).1 {
+            FileNormal::Kept => {}
+            FileNormal::Replaced => replaced.push(v as u32),
+            FileNormal::Reversed => reversed.push(v as u32),
+        }
+    }
+    Some((replaced, reversed))
 }
 
 /// Least cosine between a vertex normal and each incident face normal that
