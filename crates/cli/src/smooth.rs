@@ -203,15 +203,24 @@ pub(crate) fn resolved(path: &Path) -> PathBuf {
     }
 }
 
-/// `Err` naming `path` and the missing folder when the folder `path` would be written in
-/// does not exist (or is not a folder).
+/// `Err` naming `path` and the folder when the folder `path` would be written in does not
+/// exist (or is not a folder), or takes no new file ([`algesurf_io::probe_writable`]).
 pub(crate) fn folder_exists(path: &Path, what: &str) -> Result<(), BoxError> {
     let folder = match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
     };
     if folder.is_dir() {
-        Ok(())
+        // A folder that takes no files (permissions, a read-only or pseudo file system)
+        // failed only at the write too.
+        algesurf_io::probe_writable(path).map_err(|e| {
+            format!(
+                "{}: cannot write the {what}: cannot create a file in the folder {}: {e}",
+                path.display(),
+                folder.display()
+            )
+            .into()
+        })
     } else {
         Err(format!(
             "{}: cannot write the {what}: the folder {} does not exist",

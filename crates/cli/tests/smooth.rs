@@ -605,3 +605,24 @@ fn file_normals_that_are_replaced_or_reversed_are_reported() {
     assert_eq!(report["file_normals"]["replaced"], serde_json::json!([3]));
     assert_eq!(report["file_normals"]["reversed"], serde_json::json!([7]));
 }
+
+/// An output in a folder that exists but takes no files is refused before any work (it
+/// failed only at the write). `/proc` refuses new files even to root, as a read-only or
+/// permission-denied folder does to others.
+#[cfg(target_os = "linux")]
+#[test]
+fn an_output_in_a_folder_that_takes_no_files_fails_before_any_work() {
+    let dir = TempDir::new("smooth", "unwritable");
+    std::fs::write(dir.path().join("ico.obj"), icosphere_obj(1)).unwrap();
+    let out = algesurf(
+        dir.path(),
+        &["smooth", "ico.obj", "-o", "/proc/algesurf-out.ply"],
+    );
+    assert!(!out.status.success(), "{}", text(&out));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("cannot create a file in the folder /proc"),
+        "{err}"
+    );
+    assert!(out.stdout.is_empty(), "{}", text(&out));
+}

@@ -22,6 +22,31 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), IoError> {
     })
 }
 
+/// Whether [`write_atomic`] could create its temporary file beside `path`: creates one as it
+/// would (exclusively, same name pattern) and removes it at once, touching nothing else. For
+/// commands that write after minutes of work, to fail before it when the folder does not
+/// take files (no permission, a read-only file system, a pseudo-file system such as
+/// `/proc`).
+///
+/// # Errors
+/// The [`std::io::Error`] of creating the file.
+pub fn probe_writable(path: &Path) -> Result<(), std::io::Error> {
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => std::path::PathBuf::from("."),
+    };
+    let probe = dir.join(format!(
+        ".algesurf-probe.{}.{}.tmp",
+        std::process::id(),
+        COUNTER.fetch_add(1, Ordering::Relaxed)
+    ));
+    std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&probe)?;
+    std::fs::remove_file(&probe)
+}
+
 /// [`write_atomic`] for content that `fill` writes in pieces (a writer streaming a large mesh,
 /// so that no copy of the whole file is built in memory first). `fill`'s error is returned
 /// as it is, and the temporary file removed.

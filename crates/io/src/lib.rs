@@ -57,7 +57,7 @@ mod stl;
 use std::path::Path;
 
 pub use algesurf_mesh::PolygonMesh;
-pub use atomic::write_atomic;
+pub use atomic::{probe_writable, write_atomic};
 pub use error::{IoError, Location};
 pub use format::Format;
 
