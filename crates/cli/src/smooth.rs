@@ -387,8 +387,8 @@ pub(crate) struct Built {
     /// (reversed), [`algesurf_mesh::file_normal_changes`]; empty otherwise.
     pub file_normals: (Vec<u32>, Vec<u32>),
     /// Where `tri` and `surface` have their origin in the input's coordinates
-    /// ([`algesurf_mesh::Aabb::exact_local_origin`]): zero unless the input lies far from the origin for its
-    /// size. [`to_input_coordinates`] moves results back.
+    /// ([`algesurf_mesh::Aabb::exact_local_origin`]): zero unless the input lies far from the
+    /// origin for its size. [`to_input_coordinates`] moves results back.
     pub origin: DVec3,
 }
 
@@ -888,9 +888,9 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
         }
         let adjusted = surface.adjusted_normals();
         if !adjusted.is_empty() {
-            // A normal at or past 84° from a face at its vertex (or a NaN or zero one from a
-            // file) is moved into its faces' cone before the hull is built: say so, as the
-            // surface no longer has that normal there.
+            // A normal at or past 84° from a face at its vertex is moved into its faces' cone
+            // before the hull is built: say so, as the surface no longer has that normal
+            // there.
             let _ = writeln!(
                 s,
                 "normals: {} adjusted into their faces' cone (vertices {})",
