@@ -626,3 +626,48 @@ fn an_output_in_a_folder_that_takes_no_files_fails_before_any_work() {
     );
     assert!(out.stdout.is_empty(), "{}", text(&out));
 }
+
+/// Normals moved into their faces' cone before the hull are reported: a 1 × 1 × 0.01 box's
+/// Loop normals stand far off its thin sides' faces at all eight corners.
+#[test]
+fn normals_adjusted_into_their_faces_cone_are_reported() {
+    let dir = TempDir::new("smooth", "adjusted");
+    let mut obj = String::new();
+    for x in [0.0, 1.0] {
+        for y in [0.0, 1.0] {
+            for z in [0.0, 0.01] {
+                obj.push_str(&format!("v {x} {y} {z}\n"));
+            }
+        }
+    }
+    obj.push_str("f 1 2 4 3\nf 5 7 8 6\nf 1 5 6 2\nf 3 4 8 7\nf 1 3 7 5\nf 2 6 8 4\n");
+    std::fs::write(dir.path().join("plate.obj"), obj).unwrap();
+    let out = algesurf(
+        dir.path(),
+        &[
+            "smooth",
+            "plate.obj",
+            "-o",
+            "out.ply",
+            "--resolution",
+            "2",
+            "--report",
+            "r.json",
+        ],
+    );
+    assert!(out.status.success(), "{}", text(&out));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        stdout.contains(
+            "normals: 8 adjusted into their faces' cone (vertices 0, 1, 2, 3, 4, 5, 6, 7)"
+        ),
+        "{stdout}"
+    );
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("r.json")).unwrap()).unwrap();
+    assert_eq!(
+        report["adjusted_normals"],
+        serde_json::json!([0, 1, 2, 3, 4, 5, 6, 7])
+    );
+    assert_eq!(report["file_normals"]["replaced"], serde_json::json!([]));
+}
