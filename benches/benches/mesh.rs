@@ -116,3 +116,44 @@ fn butterfly_normals_of_fans_of_valence_256(bencher: Bencher) {
         vertex_normals(black_box(&mesh), NormalMethod::Butterfly).expect("normals")
     });
 }
+
+/// `(key, id)` pairs as the hull sorts them: `n` keys of `bits` random bits (63: Morton codes
+/// of the bunny's 305 k hull tetrahedra; 32: its 208 k corners' edge keys), numbered in order.
+fn keyed_pairs(n: usize, bits: u32) -> Vec<(u64, u32)> {
+    let mut s = 0x9e37_79b9_7f4a_7c15u64;
+    (0..n as u32)
+        .map(|i| {
+            // xorshift64: any well-spread keys do; the sort's cost depends on the digits only.
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s & ((1u64 << bits) - 1), i)
+        })
+        .collect()
+}
+
+const SORT_CASES: [(usize, u32); 2] = [(305_000, 63), (208_000, 32)];
+
+/// Sorts copies of [`keyed_pairs`]`(n, bits)` by `sort`.
+fn bench_sort(bencher: Bencher, (n, bits): (usize, u32), sort: fn(&mut Vec<(u64, u32)>)) {
+    let pairs = keyed_pairs(n, bits);
+    bencher
+        .with_inputs(|| pairs.clone())
+        .bench_local_values(|mut p| {
+            sort(&mut p);
+            p
+        });
+}
+
+/// [`algesurf::mesh::radix::sort_pairs`] (the hull's edge keys and small trees' Morton
+/// codes): a radix sort on 11-bit digits, in series.
+#[divan::bench(args = SORT_CASES, sample_count = 20)]
+fn sort_pairs_radix(bencher: Bencher, case: (usize, u32)) {
+    bench_sort(bencher, case, algesurf::mesh::radix::sort_pairs);
+}
+
+/// The same pairs by `sort_unstable` (a comparison sort on one core), for scale.
+#[divan::bench(args = SORT_CASES, sample_count = 20)]
+fn sort_pairs_comparison(bencher: Bencher, case: (usize, u32)) {
+    bench_sort(bencher, case, |p| p.sort_unstable());
+}

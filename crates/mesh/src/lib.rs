@@ -76,6 +76,7 @@ pub use subdivision::{
 pub mod bvh;
 pub mod morton;
 pub mod primitives;
+pub mod radix;
 mod self_intersection;
 pub mod self_join;
 #[cfg(any(test, feature = "test-util"))]

@@ -128,9 +128,13 @@ impl MortonBvh {
         let keyed_at = |(i, b): (usize, &(DVec3, DVec3))| (code(b), i as u32);
         let mut keyed: Vec<(u64, u32)>;
         let sorted: Vec<(DVec3, DVec3)>;
+        // The pairs are numbered in order, so the radix sort's order is the pairs' own. In
+        // parallel the comparison sort stays: on two cores it sorted 305 k codes (the bunny's
+        // hull) in 5.2–5.8 ms, the radix sort's six passes over 63-bit codes in 7.4–8.0 ms
+        // (`--bench mesh -- sort_pairs`); the edge keys' three passes are the faster there.
         if serial {
             keyed = boxes.iter().enumerate().map(keyed_at).collect();
-            keyed.sort_unstable();
+            crate::radix::sort_pairs(&mut keyed);
             sorted = keyed.iter().map(|k| boxes[k.1 as usize]).collect();
         } else {
             keyed = boxes.par_iter().enumerate().map(keyed_at).collect();
