@@ -62,14 +62,18 @@ impl<const N: usize> Simplex<N> {
         for k in 1..N {
             e[k - 1] = vertices[k] - vertices[0];
         }
-        let mut longest: f64 = 0.0;
+        let mut longest_squared: f64 = 0.0;
         for a in 0..N {
             for b in a + 1..N {
                 // A running extreme from 0: never NaN (a NaN distance is skipped, as by
                 // `f64::max`; non-finite vertices were refused above).
-                longest = max_not_nan(longest, vertices[a].distance(vertices[b]));
+                longest_squared =
+                    max_not_nan(longest_squared, vertices[a].distance_squared(vertices[b]));
             }
         }
+        // One square root for the six edges: a correctly rounded square root is monotone, so
+        // the root of the largest square is the largest of the roots, bit for bit.
+        let longest = longest_squared.sqrt();
         // Dual vectors in closed form (rows of E⁻¹ as cross products over the determinant for
         // a tetrahedron, their in-plane analogue for a triangle). Forming them through the Gram
         // matrix (EᵀE)⁻¹Eᵀ would square the condition number κ of the barycentric map: with
