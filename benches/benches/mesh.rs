@@ -123,7 +123,8 @@ fn keyed_pairs(n: usize, bits: u32) -> Vec<(u64, u32)> {
     let mut s = 0x9e37_79b9_7f4a_7c15u64;
     (0..n as u32)
         .map(|i| {
-            // xorshift64: any well-spread keys do; the sort's cost depends on the digits only.
+            // xorshift64: any well-spread keys do; the radix sort's cost depends only on how
+            // many digits vary.
             s ^= s << 13;
             s ^= s >> 7;
             s ^= s << 17;

@@ -70,12 +70,8 @@ fn scatter(
 
 /// Sorts `data` stably by key, in series, with `buf` (the same length) as scratch. Returns
 /// `true` when the sorted pairs ended in `buf` (an odd number of passes), `false` when in
-/// `data`.
+/// `data`. Short lists are [`sort_pairs`]' to sort by comparisons.
 fn lsd(data: &mut [(u64, u32)], buf: &mut [(u64, u32)]) -> bool {
-    if data.len() < COMPARISON_BELOW {
-        data.sort_by_key(|p| p.0);
-        return false;
-    }
     let (any, all) = or_and(data);
     let digits = varying_digits(any, all);
     let mut counts = vec![0usize; RADIX * digits.len()];
