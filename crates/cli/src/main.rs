@@ -8,6 +8,7 @@ mod continuity;
 mod convert;
 mod deviation;
 mod grid;
+mod hints;
 mod info;
 mod memory;
 mod render;

@@ -13,6 +13,7 @@ use std::sync::atomic::{AtomicU32, Ordering};
 use std::time::Instant;
 
 use crate::grid::{GridArgs, Resolution};
+use crate::hints;
 use crate::stage::{Timings, measured, stage};
 use algesurf_apatch::{
     ApatchError, ApatchSurface, FaceFunction, FreeParameterRule, GradientMagnitudes, PatchKind,
@@ -526,15 +527,17 @@ pub(crate) fn build(
     let surface = surface.map_err(|e| match e {
         ApatchError::Hull(e) => {
             let hint = match e {
-                algesurf_hull::HullError::UnresolvedIntersection { .. } => {
-                    sharp_rim_hint(args.normals, args.apex)
-                }
-                _ => "",
+                algesurf_hull::HullError::UnresolvedIntersection { .. } => format!(
+                    "{}{}",
+                    hints::sharp_rim(args.normals, args.apex),
+                    hints::thin_faces(&tri)
+                ),
+                _ => String::new(),
             };
             format!("{source}: cannot build the simplicial hull: {e}{ids_note}{hint}")
         }
         e => {
-            let hint = sliver_hint(&tri, &e);
+            let hint = hints::sliver(&tri, &e);
             format!("{source}: cannot build the surface: {e}{ids_note}{hint}")
         }
     })?;
@@ -549,63 +552,6 @@ pub(crate) fn build(
         file_normals,
         origin,
     })
-}
-
-/// Where a tetrahedron on an input face came out degenerate and the face itself is a sliver
-/// (twice its area over its longest edge squared below 1e-6: a needle or a cap), says so:
-/// the face's tetrahedra inherit its shape, and `Simplex`'s tolerance (1e-10 of the longest
-/// edge cubed) rejects them before the face's own area reaches repair's degenerate-face
-/// threshold (1e-14 of the bounding box's diagonal squared). Empty otherwise.
-fn sliver_hint(tri: &TriMesh, e: &ApatchError) -> String {
-    let ApatchError::AtFace {
-        input_face, source, ..
-    } = e
-    else {
-        return String::new();
-    };
-    if !matches!(
-        **source,
-        ApatchError::Bb(algesurf::bb::BbError::DegenerateSimplex { .. })
-    ) {
-        return String::new();
-    }
-    let Some(&[a, b, c]) = tri.triangles().get(*input_face as usize) else {
-        return String::new();
-    };
-    let p = tri.positions();
-    let (a, b, c) = (p[a as usize], p[b as usize], p[c as usize]);
-    let longest = a.distance(b).max(b.distance(c)).max(c.distance(a));
-    let shape = (b - a).cross(c - a).length() / (longest * longest);
-    if shape < 1e-6 {
-        format!(
-            " (input face {input_face} is a sliver: twice its area over its longest edge squared \
-             is {shape:.1e}; collapse its short edge or remesh there)"
-        )
-    } else {
-        String::new()
-    }
-}
-
-/// What to try when refinement could not separate the hull's tetrahedra and the command ran
-/// with normals or apexes other than those made for sharp rims (`docs/ARCHITECTURE.md`, sharp
-/// rims): with the defaults every mesh of the test corpus builds, and Suzanne, for one, does
-/// not with Loop, area- or angle-weighted normals or with the paper's apexes.
-fn sharp_rim_hint(normals: SmoothNormals, apex: ApexArg) -> &'static str {
-    match (normals, apex) {
-        (SmoothNormals::Auto | SmoothNormals::Butterfly, ApexArg::Nearest) => "",
-        (SmoothNormals::Auto | SmoothNormals::Butterfly, ApexArg::Normal) => {
-            " (hint: the default --apex nearest keeps the apexes low at sharp rims, where the \
-             paper's stand several face widths high)"
-        }
-        (_, ApexArg::Nearest) => {
-            " (hint: the default --normals auto takes the Butterfly limit normal at sharp rims, \
-             the normal Butterfly refinement agrees with there)"
-        }
-        (_, ApexArg::Normal) => {
-            " (hint: the defaults --normals auto and --apex nearest are made for sharp rims: \
-             Butterfly limit normals there, and low apexes)"
-        }
-    }
 }
 
 /// Smooths the input (or the built-in icosahedron) and writes the surface.

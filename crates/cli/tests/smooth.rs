@@ -341,8 +341,59 @@ fn bad_input_fails_naming_the_file() {
     assert!(!dir.path().join("out.ply").exists());
 }
 
+/// A mesh made of thin faces: spot's own A-patch tessellation at `--resolution 2 --across 1`
+/// (41 k faces, a tenth of them narrower than 1/20 of their longest edge: the one-step-wide
+/// edge patches). Refining its hull folds the surface where the thin faces are and the
+/// overlapping pairs multiply (135 to 4 641 in nine rounds); before the overlap bound it
+/// failed only at the round limit, with 153 k pairs. The command stops at the bound, names
+/// the thin faces as the likely cause, and writes nothing. (`ALGESURF_CORPUS`; skipped when
+/// unset.)
+#[test]
+fn a_mesh_of_thin_faces_stops_at_the_overlap_bound_and_says_why() {
+    let Some(corpus) = std::env::var_os("ALGESURF_CORPUS") else {
+        println!("skipped: ALGESURF_CORPUS unset");
+        return;
+    };
+    let spot = std::path::Path::new(&corpus).join("spot.obj");
+    let spot = spot.to_str().expect("a UTF-8 corpus path");
+    let dir = TempDir::new("smooth", "thin-faces");
+    let out = algesurf(
+        dir.path(),
+        &[
+            "smooth",
+            spot,
+            "-o",
+            "strips.ply",
+            "--resolution",
+            "2",
+            "--across",
+            "1",
+        ],
+    );
+    assert!(out.status.success(), "{}", text(&out));
+    let out = algesurf(
+        dir.path(),
+        &["smooth", "strips.ply", "-o", "out.ply", "--resolution", "1"],
+    );
+    assert!(!out.status.success(), "{}", text(&out));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("(`max_overlap_growth`)"), "{err}");
+    let rounds: usize = err
+        .split(" rounds of local Butterfly refinement")
+        .next()
+        .and_then(|head| head.rsplit(' ').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("a round count: {err}"));
+    assert!(rounds < 24, "stopped by the round limit: {err}");
+    assert!(
+        err.contains("faces (") && err.contains("%) are thin, narrower than 1/20"),
+        "{err}"
+    );
+    assert!(!dir.path().join("out.ply").exists());
+}
+
 /// A 48-face bicone with angle-weighted normals makes hull refinement diverge (the overlaps
-/// multiply from round to round): the command stops at the growth bound within a second
+/// multiply from round to round): the command stops at the overlap bound within a second
 /// instead of running out of memory, says why, suggests the default normals, and writes
 /// nothing; with the default normals the same mesh smooths.
 #[test]
@@ -369,10 +420,13 @@ fn diverging_refinement_stops_and_suggests_the_default_normals() {
     assert!(!out.status.success(), "{}", text(&out));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
-        err.contains("more than 64 times the input's 48 (`max_refinement_growth`)"),
+        err.contains("have grown from 48 to ")
+            && err.contains("more than 16 times the first round's (`max_overlap_growth`)"),
         "{err}"
     );
     assert!(err.contains("hint: the default --normals auto"), "{err}");
+    // The bicone's faces are well shaped (none thinner than 1/20 of its longest edge).
+    assert!(!err.contains("are thin"), "{err}");
     assert!(!dir.path().join("out.ply").exists());
     let out = algesurf(dir.path(), &["smooth", "bicone.obj", "-o", "out.ply"]);
     assert!(out.status.success(), "{}", text(&out));

@@ -74,6 +74,14 @@ pub use simplicial::{Element, HullTetrahedron, Intersection, Refinement, Simplic
 /// applies.
 pub const REFINEMENT_FACE_FLOOR: usize = 4096;
 
+/// Refinement may always leave this many overlapping pairs, whatever
+/// [`HullOptions::max_overlap_growth`] allows for a mesh whose first round found few: a round
+/// with a few thousand pairs bisects a few thousand faces and rebuilds their tetrahedra in
+/// milliseconds, so a small mesh's sharp rims may take their rounds before the bound applies
+/// (the successful refinements of the corpus and of the mesh crate's shapes never exceed
+/// 3 484 pairs in a round).
+pub const REFINEMENT_OVERLAP_FLOOR: usize = 4096;
+
 /// Tolerances and parameters of the hull construction. All are relative (scale-invariant).
 #[derive(Clone, Debug, PartialEq)]
 pub struct HullOptions {
@@ -137,6 +145,24 @@ pub struct HullOptions {
     /// faces in 17 rounds), a bicone of 144 faces with Butterfly normals 13× (to 1 886), the
     /// cow 1.8×, the teapot 1.3×.
     pub max_refinement_growth: f64,
+    /// The most overlapping pairs a refinement round may leave, per pair the first round
+    /// found: once more than `max_overlap_growth` times as many pairs overlap as at the start
+    /// (and more than [`REFINEMENT_OVERLAP_FLOOR`]), refinement stops with
+    /// [`HullError::UnresolvedIntersection`]. Default `16`; must be at least 1.
+    ///
+    /// Why a bound besides [`HullOptions::max_refinement_growth`]: on a large input the face
+    /// bound is far away (64 times 487 k faces) while diverging refinement multiplies the
+    /// overlapping pairs, not the faces, from round to round. Meshes made mostly of thin
+    /// faces do that: the bunny's own A-patch tessellation at `--resolution 2 --across 1`
+    /// (487 k faces, a fifth of them thinner than 1 : 20) went from 561 overlapping pairs to
+    /// 2.6 M in 15 rounds (×1.5–1.8 a round) while its faces grew only 2.2×, and failed after
+    /// 61 s and 7.5 GB; with this bound it stops after five rounds. The refinements that
+    /// succeed never approach it: at most 2.2 times their first round's pairs on the corpus
+    /// (fandisk with the paper's apexes) under every normal and apex option, and at most 4.4
+    /// times on the mesh crate's bicones and tori (`bicone(16, 0.2)` with Butterfly normals,
+    /// 112 → 488 pairs, below the floor anyway), while the diverging refinements measured had
+    /// 24 to 515 times their first count when the face bound stopped them.
+    pub max_overlap_growth: f64,
     /// Whether to look for intersecting tetrahedra at all. Default `true`.
     pub check_intersections: bool,
     /// Where a face tetrahedron's apex goes. Default [`ApexPlacement::Nearest`].
@@ -186,6 +212,7 @@ impl Default for HullOptions {
             overlap_tolerance: 1e-9,
             max_refinement_rounds: 24,
             max_refinement_growth: 64.0,
+            max_overlap_growth: 16.0,
             check_intersections: true,
             apex: ApexPlacement::Nearest,
         }
@@ -194,7 +221,7 @@ impl Default for HullOptions {
 
 impl HullOptions {
     /// Checks the ranges: tolerances finite and `≥ 0`, `epsilon` and `min_apex_height`
-    /// finite and `> 0`, `max_refinement_growth` at least 1.
+    /// finite and `> 0`, `max_refinement_growth` and `max_overlap_growth` at least 1.
     ///
     /// # Errors
     /// [`HullError::InvalidOption`] naming the option.
@@ -220,12 +247,16 @@ impl HullOptions {
                 )));
             }
         }
-        let growth = self.max_refinement_growth;
-        // NaN fails too.
-        if growth.is_nan() || growth < 1.0 {
-            return Err(HullError::InvalidOption(format!(
-                "max_refinement_growth = {growth} must be ≥ 1 (infinity: no bound)"
-            )));
+        for (name, growth) in [
+            ("max_refinement_growth", self.max_refinement_growth),
+            ("max_overlap_growth", self.max_overlap_growth),
+        ] {
+            // NaN fails too.
+            if growth.is_nan() || growth < 1.0 {
+                return Err(HullError::InvalidOption(format!(
+                    "{name} = {growth} must be ≥ 1 (infinity: no bound)"
+                )));
+            }
         }
         Ok(())
     }

@@ -277,6 +277,9 @@ impl SimplicialHull {
         let input_faces = state.face_map.iter().max().map_or(0, |&f| f as usize + 1);
         let face_bound = (options.max_refinement_growth * input_faces as f64)
             .max(crate::REFINEMENT_FACE_FLOOR as f64);
+        let first_overlaps = hits.len();
+        let overlap_bound = (options.max_overlap_growth * first_overlaps as f64)
+            .max(crate::REFINEMENT_OVERLAP_FLOOR as f64);
         loop {
             let (positions, triangles) = state.current();
             let hit = &hits[0];
@@ -292,10 +295,22 @@ impl SimplicialHull {
                 reason,
             };
             // Same-component overlaps that survive every round, or that have multiplied the
-            // faces beyond the growth bound, are an error.
+            // faces or themselves beyond the growth bounds, are an error.
             let grown = triangles.len() as f64 > face_bound;
-            if round - first_round == options.max_refinement_rounds || grown {
-                let why = if grown {
+            let multiplied = hits.len() as f64 > overlap_bound;
+            if round - first_round == options.max_refinement_rounds || grown || multiplied {
+                let why = if multiplied && !grown {
+                    format!(
+                        "the overlapping pairs have grown from {first_overlaps} to {} in {} \
+                         rounds, more than {} times the first round's (`max_overlap_growth`), \
+                         while the mesh grew from {input_faces} to {} faces: refinement \
+                         multiplies them here instead of separating them",
+                        hits.len(),
+                        round - first_round,
+                        options.max_overlap_growth,
+                        triangles.len()
+                    )
+                } else if grown {
                     format!(
                         "the mesh has grown to {} faces, more than {} times the input's {} \
                          (`max_refinement_growth`), and {} pairs still overlap: refinement \

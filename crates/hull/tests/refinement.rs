@@ -264,15 +264,19 @@ fn bad_input_is_reported() {
         SimplicialHull::new(&p, &f, &p, &bad),
         Err(HullError::InvalidOption(_))
     ));
-    for growth in [0.5, f64::NAN] {
-        let bad = HullOptions {
-            max_refinement_growth: growth,
-            ..paper()
-        };
-        assert!(matches!(
-            SimplicialHull::new(&p, &f, &p, &bad),
-            Err(HullError::InvalidOption(m)) if m.contains("max_refinement_growth")
-        ));
+    let growth_bounds: [(&str, fn(&mut HullOptions, f64)); 2] = [
+        ("max_refinement_growth", |o, g| o.max_refinement_growth = g),
+        ("max_overlap_growth", |o, g| o.max_overlap_growth = g),
+    ];
+    for (name, set) in growth_bounds {
+        for growth in [0.5, f64::NAN] {
+            let mut bad = paper();
+            set(&mut bad, growth);
+            assert!(matches!(
+                SimplicialHull::new(&p, &f, &p, &bad),
+                Err(HullError::InvalidOption(m)) if m.contains(name)
+            ));
+        }
     }
 }
 
@@ -293,9 +297,11 @@ fn diverging_refinement_stops_at_the_growth_bound() {
         n.split(' ').next().unwrap().parse().unwrap()
     };
     // Nine rounds at most (~12 k faces unbounded), so that this test fails, rather than
-    // runs away, without the bound.
+    // runs away, without the bound. The overlaps multiply too, and their bound would stop
+    // the refinement first (see the next test): it is lifted here.
     let bounded = HullOptions {
         max_refinement_rounds: 9,
+        max_overlap_growth: f64::INFINITY,
         ..HullOptions::default()
     };
     let grown = match SimplicialHull::from_mesh(&m, &normals, &bounded) {
@@ -324,6 +330,50 @@ fn diverging_refinement_stops_at_the_growth_bound() {
             assert!(reason.contains("the limit of 9 rounds"), "{reason}")
         }
         other => panic!("expected the round limit, got {other:?}"),
+    }
+}
+
+/// Diverging refinement multiplies the overlapping pairs faster than the faces (the same
+/// bicone: 48 pairs in the first round, ×1.5–2.5 a round), and on a large input the face
+/// bound is far away: the overlap bound stops it once more than `max_overlap_growth` times
+/// the first round's pairs overlap (here the floor, 4096, as 16 × 48 is less), and says how
+/// they grew. With the face bound lifted, nothing else would stop it before the round limit.
+#[test]
+fn multiplying_overlaps_stop_at_the_overlap_bound() {
+    use algesurf_hull::REFINEMENT_OVERLAP_FLOOR;
+    use algesurf_mesh::{NormalMethod, shapes::bicone, vertex_normals};
+    let m = bicone(8, 0.05);
+    let normals = vertex_normals(&m, NormalMethod::Angle).unwrap();
+    let options = HullOptions {
+        max_refinement_rounds: 9,
+        max_refinement_growth: f64::INFINITY,
+        ..HullOptions::default()
+    };
+    let number_after = |reason: &str, before: &str| -> usize {
+        let n = reason.split(before).nth(1).expect("the phrase");
+        n.split(' ').next().unwrap().parse().unwrap()
+    };
+    match SimplicialHull::from_mesh(&m, &normals, &options) {
+        Err(HullError::UnresolvedIntersection { rounds, reason, .. }) => {
+            assert!(rounds < 9, "{rounds} rounds: {reason}");
+            assert!(
+                reason.contains("more than 16 times the first round's (`max_overlap_growth`)"),
+                "{reason}"
+            );
+            let first = number_after(&reason, "have grown from ");
+            let last = number_after(&reason, &format!("from {first} to "));
+            // The bound is checked after each round; a round here at most triples the pairs.
+            assert!(first < REFINEMENT_OVERLAP_FLOOR / 16, "{reason}");
+            assert!(
+                last > REFINEMENT_OVERLAP_FLOOR && last <= 3 * REFINEMENT_OVERLAP_FLOOR,
+                "{reason}"
+            );
+            // It stops before the faces reach the face bound's floor, which the default face
+            // bound (64 × 48 < 4096) would have waited for.
+            let faces = number_after(&reason, "while the mesh grew from 48 to ");
+            assert!(faces < algesurf_hull::REFINEMENT_FACE_FLOOR, "{reason}");
+        }
+        other => panic!("expected the overlap bound, got {other:?}"),
     }
 }
 
