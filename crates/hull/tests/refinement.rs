@@ -264,7 +264,8 @@ fn bad_input_is_reported() {
         SimplicialHull::new(&p, &f, &p, &bad),
         Err(HullError::InvalidOption(_))
     ));
-    let growth_bounds: [(&str, fn(&mut HullOptions, f64)); 2] = [
+    type Setter = fn(&mut HullOptions, f64);
+    let growth_bounds: [(&str, Setter); 2] = [
         ("max_refinement_growth", |o, g| o.max_refinement_growth = g),
         ("max_overlap_growth", |o, g| o.max_overlap_growth = g),
     ];
