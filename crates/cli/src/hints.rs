@@ -6,6 +6,13 @@ use crate::smooth::{ApexArg, SmoothNormals};
 use algesurf_apatch::ApatchError;
 use algesurf_mesh::TriMesh;
 
+/// Twice a triangle's area over its longest edge squared (`√3/2` for an equilateral one, 0
+/// for a flat one; NaN for a point): the shape both [`sliver`] and [`thin_faces`] judge.
+fn shape([a, b, c]: [glam::DVec3; 3]) -> f64 {
+    let longest = a.distance(b).max(b.distance(c)).max(c.distance(a));
+    (b - a).cross(c - a).length() / (longest * longest)
+}
+
 /// Where a tetrahedron on an input face came out degenerate and the face itself is a sliver
 /// (twice its area over its longest edge squared below 1e-6: a needle or a cap), says so:
 /// the face's tetrahedra inherit its shape, and `Simplex`'s tolerance (1e-10 of the longest
@@ -28,9 +35,7 @@ pub(crate) fn sliver(tri: &TriMesh, e: &ApatchError) -> String {
         return String::new();
     };
     let p = tri.positions();
-    let (a, b, c) = (p[a as usize], p[b as usize], p[c as usize]);
-    let longest = a.distance(b).max(b.distance(c)).max(c.distance(a));
-    let shape = (b - a).cross(c - a).length() / (longest * longest);
+    let shape = shape([a, b, c].map(|v| p[v as usize]));
     if shape < 1e-6 {
         format!(
             " (input face {input_face} is a sliver: twice its area over its longest edge squared \
@@ -83,15 +88,8 @@ pub(crate) fn thin_faces(tri: &TriMesh) -> String {
     let thin = tri
         .triangles()
         .iter()
-        .filter(|t| {
-            let [a, b, c] = t.map(|v| p[v as usize]);
-            let longest2 = a
-                .distance_squared(b)
-                .max(b.distance_squared(c))
-                .max(c.distance_squared(a));
-            // A face of zero size is repair's business, not a thin one.
-            longest2 > 0.0 && (b - a).cross(c - a).length() < THIN_SHAPE * longest2
-        })
+        // A face of zero size has a NaN shape: repair's business, not a thin one.
+        .filter(|t| shape(t.map(|v| p[v as usize])) < THIN_SHAPE)
         .count();
     let faces = tri.triangles().len();
     if faces == 0 || (thin as f64) < THIN_SHARE * faces as f64 {
