@@ -1,14 +1,20 @@
 //! The whole C1 function F over the simplicial hull of a mesh, and its free parameters.
 
-use crate::sheet::{CERTIFIED_GAP, CERTIFIED_MAX_CELLS, certified_face_bound, lifted_b_min};
+use crate::sheet::certified_face_bound;
 use crate::{ApatchError, EdgeCubic, EdgeNeighbour, FaceCubic, Quadric, SplitFace, VertexData};
-use algesurf_bb::sheet::square::certified_square_lift_bound;
 use algesurf_hull::{Convexity, HullOptions, Side, SimplicialHull};
 use algesurf_mesh::TriMesh;
-use algesurf_mesh::parallel::collect_first_error;
+use algesurf_mesh::parallel::collect_first_error_with_progress;
+use algesurf_mesh::progress::{NoProgress, Progress};
 use glam::DVec3;
 use rayon::prelude::*;
 use std::collections::HashMap;
+
+mod edge_lift;
+mod neighbourhood;
+use edge_lift::edge_increments;
+pub(crate) use edge_lift::edge_need;
+use neighbourhood::neighbourhood;
 
 /// How the free parameters `f_0003` (the value of F at each apex) are chosen.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -164,78 +170,6 @@ pub struct ConstructionTimings {
     pub function: std::time::Duration,
 }
 
-/// The vertex ids met so far by [`neighbourhood`], which keeps them in the order met (the
-/// quadric fit sums over them in that order). Open addressing in 128 slots: a face's
-/// neighbourhood has about 15 vertices, met ~55 times, and scanning the list for each was
-/// 5 % of the bunny's function stage. Past 64 ids (a vertex of valence 40 or so) the ids go
-/// to a hash set instead, so it is right, and linear, for any size: scanning the list there
-/// made a face at a vertex of valence `k` cost O(k²), and a capped cylinder of 4096
-/// segments (two fans of valence 4096) spent 4.4 s in its function stage.
-struct SmallVertexSet {
-    slots: [u32; 128],
-    len: usize,
-    overflow: Option<algesurf_mesh::fasthash::FastSet<u32>>,
-}
-
-impl SmallVertexSet {
-    const EMPTY: u32 = u32::MAX;
-
-    fn new() -> Self {
-        SmallVertexSet {
-            slots: [Self::EMPTY; 128],
-            len: 0,
-            overflow: None,
-        }
-    }
-
-    /// Whether `w` is new (not in `listed`, the ids inserted so far in order); records it.
-    fn insert(&mut self, w: u32, listed: &[u32]) -> bool {
-        if w == Self::EMPTY {
-            return !listed.contains(&w);
-        }
-        if self.len >= 64 {
-            // Every id listed so far, then the new ones as they come.
-            return self
-                .overflow
-                .get_or_insert_with(|| listed.iter().copied().collect())
-                .insert(w);
-        }
-        // Fibonacci hashing: the top 7 bits of w·φ⁻¹·2³².
-        let mut i = (w.wrapping_mul(0x9E37_79B9) >> 25) as usize;
-        loop {
-            match self.slots[i] {
-                x if x == w => return false,
-                Self::EMPTY => {
-                    self.slots[i] = w;
-                    self.len += 1;
-                    return true;
-                }
-                _ => i = (i + 1) & 127,
-            }
-        }
-    }
-}
-
-/// Vertices of the face and of every face touching its vertices, with their gradients.
-fn neighbourhood(mesh: &TriMesh, grads: &[DVec3], f: usize) -> Vec<(DVec3, DVec3)> {
-    let topo = mesh.topology();
-    let mut verts: Vec<u32> = Vec::with_capacity(16);
-    let mut seen = SmallVertexSet::new();
-    for &v in &mesh.triangles()[f] {
-        for g in topo.vertex_faces(v) {
-            for &w in &mesh.triangles()[g as usize] {
-                if seen.insert(w, &verts) {
-                    verts.push(w);
-                }
-            }
-        }
-    }
-    verts
-        .iter()
-        .map(|&v| (mesh.positions()[v as usize], grads[v as usize]))
-        .collect()
-}
-
 /// The base (apex value 0) shooting coefficients `c − f·(0, 0, 1/3, 1)` of (4.14).
 fn without_apex(c: [f64; 4], f: f64) -> [f64; 4] {
     [c[0], c[1], c[2] - f / 3.0, c[3] - f]
@@ -301,6 +235,40 @@ impl ApatchSurface {
         normals: &[DVec3],
         options: &SurfaceOptions,
     ) -> Result<Self, ApatchError> {
+        Self::with_progress(mesh, normals, options, &NoProgress)
+    }
+
+    /// [`ApatchSurface::new`], reporting its steps to `progress`: the hull's
+    /// ([`SimplicialHull::from_mesh_with_progress`]), then the face functions and the edge
+    /// cubics (each counted per face or edge of the hull), the edges' single-sheet bounds
+    /// (per edge), and any refinement at edges whose A-patch cannot be made single-sheeted.
+    /// The surface is the same, bit for bit, with any `progress`.
+    ///
+    /// ```
+    /// use algesurf_apatch::{ApatchSurface, SurfaceOptions};
+    /// use algesurf_mesh::progress::{Progress, ProgressCounter};
+    /// use algesurf_mesh::{NormalMethod, shapes, vertex_normals};
+    ///
+    /// let mesh = shapes::icosphere(2);
+    /// let normals = vertex_normals(&mesh, NormalMethod::Loop)?;
+    /// // A user interface polls the counter from its own thread while this runs.
+    /// let counter = ProgressCounter::new();
+    /// let surface =
+    ///     ApatchSurface::with_progress(&mesh, &normals, &SurfaceOptions::default(), &counter)?;
+    /// let last = counter.snapshot();
+    /// assert_eq!(last.step, "surface: edge single-sheet bounds");
+    /// assert_eq!((last.done, last.total), (surface.edges().len() as u64, surface.edges().len() as u64));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    ///
+    /// # Errors
+    /// As [`ApatchSurface::new`].
+    pub fn with_progress(
+        mesh: &TriMesh,
+        normals: &[DVec3],
+        options: &SurfaceOptions,
+        progress: &dyn Progress,
+    ) -> Result<Self, ApatchError> {
         let (normals, adjusted_normals) = if options.condition_normals {
             algesurf_mesh::condition_normals(
                 mesh,
@@ -322,7 +290,8 @@ impl ApatchSurface {
             }
         };
         let start = std::time::Instant::now();
-        let mut hull = SimplicialHull::from_mesh(mesh, &normals, &options.hull)?;
+        let mut hull =
+            SimplicialHull::from_mesh_with_progress(mesh, &normals, &options.hull, progress)?;
         let mut hull_time = start.elapsed();
         // An edge A-patch that no apex value makes single-sheeted is a local defect of the
         // hull there (a thin, skewed edge tetrahedron whose C1 continuation weights turn
@@ -330,7 +299,7 @@ impl ApatchSurface {
         // again.
         let mut refined_edges = 0;
         let (faces, edges, parameters) = loop {
-            match build_function(&hull, options) {
+            match build_function(&hull, options, progress) {
                 Ok(parts) => break parts,
                 Err(BuildFailure::Unliftable { edges, .. })
                     if refined_edges < MAX_UNLIFTABLE_EDGE_REFINEMENTS =>
@@ -344,7 +313,16 @@ impl ApatchSurface {
                     faces.sort_unstable();
                     faces.dedup();
                     let again = std::time::Instant::now();
-                    hull = hull.refine_faces(&faces)?;
+                    progress.start(
+                        &format!(
+                            "surface: refining {} faces at {} edges no apex value makes \
+                             single-sheeted",
+                            faces.len(),
+                            edges.len()
+                        ),
+                        0,
+                    );
+                    hull = hull.refine_faces_with_progress(&faces, progress)?;
                     hull_time += again.elapsed();
                     refined_edges += 1;
                 }
@@ -555,9 +533,11 @@ fn build_face(
 fn build_edges(
     hull: &SimplicialHull,
     faces: &[FaceFunction],
+    progress: &dyn Progress,
 ) -> Result<Vec<[Option<EdgeCubic>; 2]>, ApatchError> {
     // The first error in edge order, whatever the thread count.
-    collect_first_error(
+    progress.start("surface: edge cubics", hull.edges().len() as u64);
+    collect_first_error_with_progress(
         hull.edges().len(),
         |i| -> Result<[Option<EdgeCubic>; 2], ApatchError> {
             let e = &hull.edges()[i];
@@ -575,6 +555,7 @@ fn build_edges(
             ])
         },
         || [None, None],
+        progress,
     )
 }
 
@@ -638,163 +619,6 @@ fn rebuild_raised_edges(
     Ok(edges)
 }
 
-/// Increments of apex values an edge asks for: `((face, side), δ)`.
-type Needs = Vec<((usize, Side), f64)>;
-
-/// Step 6 for one edge tetrahedron (`slot` 0 positive, 1 negative) of the interior edge `e`:
-/// a guaranteed upper bound, over every ray (4.9) of the edge A-patch, of the least common
-/// increment `b` of the two faces' apex values for which Lemma 2.3 certifies the ray's
-/// smallest root simple ([`certified_square_lift_bound`], within [`CERTIFIED_GAP`] of the
-/// largest exact need sampled). Negative when the current coefficients suffice on every ray;
-/// `−∞` when no ray starts where F has this side's sign.
-///
-/// The search stops once the bound is certified `≤ floor` (the callers compare with a
-/// threshold, `−margin` or 0, and pass it or just below it), so only results above `floor`
-/// are within the gap of the true maximum.
-///
-/// # Errors
-/// [`ApatchError::UnliftableEdgeRay`] where raising the apex values cannot make some ray
-/// single-sheeted (the lift is not `≥ 0` there).
-pub(crate) fn edge_need(
-    hull: &SimplicialHull,
-    faces: &[FaceFunction],
-    edges: &[[Option<EdgeCubic>; 2]],
-    e: usize,
-    slot: usize,
-    floor: f64,
-) -> Result<f64, ApatchError> {
-    let pos = hull.mesh().positions();
-    let he = &hull.edges()[e];
-    let (Some(fl), Some(cubic)) = (he.face_l, &edges[e][slot]) else {
-        return Ok(f64::NEG_INFINITY);
-    };
-    let (side, sign) = if slot == 0 {
-        (Side::Positive, 1.0)
-    } else {
-        (Side::Negative, -1.0)
-    };
-    let (pi, pj) = (pos[he.vertices[0] as usize], pos[he.vertices[1] as usize]);
-    // The lift: how the edge cubic moves per unit of a common increment of both apex values.
-    let lift = EdgeCubic::apex_square_lift(
-        pi,
-        pj,
-        faces[he.face_k as usize].edge_piece(side, pi, pj)?.tet,
-        faces[fl as usize].edge_piece(side, pi, pj)?.tet,
-    )?;
-    let two_sided = edges[e][0].is_some() && edges[e][1].is_some();
-    // The exact need of one ray: −∞ where it needs nothing (it starts on this side's far
-    // side, or on a two-sided edge the other side serves it), +∞ where raising the apex values
-    // cannot help (the lift has a negative layer 2 or 3 there and the ray does not already
-    // satisfy Lemma 2.3 on its own).
-    let ray_need = |x: f64, y: f64| -> f64 {
-        let c = cubic.shooting_polynomial(x, y);
-        if two_sided && sign * c[0] > 0.0 {
-            return f64::NEG_INFINITY;
-        }
-        let base = c.map(|v| sign * v);
-        match lifted_b_min(base, lift.shooting_polynomial(x, y)) {
-            Some(b) => b,
-            None if base[0] < 0.0 => {
-                let own = lifted_b_min(base, [0.0, 0.0, 1.0, 1.0]);
-                if own.is_some_and(|b| b <= 0.0) {
-                    f64::NEG_INFINITY
-                } else {
-                    f64::INFINITY
-                }
-            }
-            None => f64::NEG_INFINITY,
-        }
-    };
-    // The base and lift coefficients are polynomials of bidegree ≤ (3, 3) in (x, y)
-    // (`algesurf_bb::sheet::square`), read off the cubics' BB coefficients.
-    let base = cubic
-        .shooting_tensor()
-        .map(|t| t.map(|row| row.map(|v| sign * v)));
-    let lifted = lift.shooting_tensor();
-    let scale = cubic.polynomial().max_coeff_norm();
-    let bound = certified_square_lift_bound(
-        &base,
-        &[lifted[2], lifted[3]],
-        ray_need,
-        CERTIFIED_GAP * scale,
-        CERTIFIED_MAX_CELLS,
-        floor,
-    );
-    if bound.upper == f64::INFINITY {
-        let [x, y] = bound.worst;
-        return Err(ApatchError::UnliftableEdgeRay {
-            vertices: he.vertices,
-            faces: [he.face_k, fl].map(|f| hull.faces()[f as usize].source_face),
-            side: side.name(),
-            x,
-            y,
-        });
-    }
-    Ok(bound.upper)
-}
-
-/// Per face side, the increment of its apex value that its edges need (Step 6 with
-/// [`lifted_b_min`]), only where positive.
-fn edge_increments(
-    hull: &SimplicialHull,
-    faces: &[FaceFunction],
-    edges: &[[Option<EdgeCubic>; 2]],
-    options: &SurfaceOptions,
-) -> Result<HashMap<(usize, Side), f64>, BuildFailure> {
-    let needs: Vec<Result<Needs, ApatchError>> = hull
-        .edges()
-        .par_iter()
-        .enumerate()
-        .map(|(e, he)| -> Result<Needs, ApatchError> {
-            let Some(fl) = he.face_l else {
-                return Ok(Vec::new());
-            };
-            let mut out = Vec::new();
-            for (slot, side) in [(0usize, Side::Positive), (1usize, Side::Negative)] {
-                let Some(cubic) = &edges[e][slot] else {
-                    continue;
-                };
-                let margin = options.sheet_margin * cubic.polynomial().max_coeff_norm();
-                // Needs up to −margin ask for nothing: exact only above that.
-                let need = edge_need(hull, faces, edges, e, slot, -margin)?;
-                if need > -margin {
-                    let delta = need + margin;
-                    out.push(((he.face_k as usize, side), delta));
-                    out.push(((fl as usize, side), delta));
-                }
-            }
-            Ok(out)
-        })
-        .collect();
-    // The first error in edge order, whatever the thread count; with it, every unliftable
-    // edge, so that one refinement pass can take them all.
-    if let Some(first) = needs.iter().position(Result::is_err) {
-        let unliftable: Vec<[u32; 2]> = needs
-            .iter()
-            .filter_map(|n| match n {
-                Err(ApatchError::UnliftableEdgeRay { vertices, .. }) => Some(*vertices),
-                _ => None,
-            })
-            .collect();
-        let error = needs.into_iter().nth(first).and_then(Result::err);
-        return Err(match error {
-            Some(e @ ApatchError::UnliftableEdgeRay { .. }) => BuildFailure::Unliftable {
-                first: e,
-                edges: unliftable,
-            },
-            Some(e) => BuildFailure::Other(e),
-            None => unreachable!("position found an error"),
-        });
-    }
-    let needs: Vec<Needs> = needs.into_iter().map(|n| n.unwrap_or_default()).collect();
-    let mut raise: HashMap<(usize, Side), f64> = HashMap::new();
-    for (key, d) in needs.into_iter().flatten() {
-        let e = raise.entry(key).or_insert(0.0);
-        *e = e.max(d);
-    }
-    Ok(raise)
-}
-
 /// How many times [`ApatchSurface::new`] refines the two faces of an edge whose A-patch has a
 /// ray no apex value makes single-sheeted ([`ApatchError::UnliftableEdgeRay`]) before it
 /// reports the error: 8. Each refinement rebuilds F, so the bound keeps a mesh with many
@@ -831,25 +655,28 @@ impl From<ApatchError> for BuildFailure {
 fn build_function(
     hull: &SimplicialHull,
     options: &SurfaceOptions,
+    progress: &dyn Progress,
 ) -> Result<FunctionParts, BuildFailure> {
     let m = hull.mesh();
     let grads = hull.normals();
     let pos = m.positions();
     // The first error in face order, whatever the thread count.
-    let built = collect_first_error(
+    progress.start("surface: face functions", m.face_count() as u64);
+    let built = collect_first_error_with_progress(
         m.face_count(),
         |f| build_face(hull, f, grads, pos, options).map_err(|e| e.at_face(hull, f)),
         || (FaceFunction::Planar, Vec::new()),
+        progress,
     )?;
     let (mut faces, parameters): (Vec<FaceFunction>, Vec<Vec<FreeParameter>>) =
         built.into_par_iter().unzip();
     let mut parameters: Vec<FreeParameter> = parameters.into_iter().flatten().collect();
     debug_assert!(parameters.is_sorted_by_key(|p| p.face));
-    let edges = build_edges(hull, &faces)?;
+    let edges = build_edges(hull, &faces, progress)?;
     // Step 6, second part: the edge A-patches need their own lower bound B_ijkl on a common
     // increment of the two faces' apex values; raise each face side by the largest
     // increment its edges need (raising only helps every other ray, Lemma 2.3).
-    let raise = edge_increments(hull, &faces, &edges, options)?;
+    let raise = edge_increments(hull, &faces, &edges, options, progress)?;
     for (&(f, side), &delta) in &raise {
         let sign = if side == Side::Positive { 1.0 } else { -1.0 };
         match &mut faces[f] {
@@ -880,40 +707,4 @@ fn build_function(
         rebuild_raised_edges(hull, &faces, edges, &raise)?
     };
     Ok((faces, edges, parameters))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::SmallVertexSet;
-    use algesurf_mesh::test_rng::Lcg;
-
-    /// The set answers as a scan of the list would, below and past its 64 hashed ids (where
-    /// a hash set takes over), with ids that collide in the table (multiples of 2²⁵ share
-    /// their top bits' hash) and the table's empty marker.
-    #[test]
-    fn small_vertex_set_answers_as_a_scan_of_the_list() {
-        let mut rng = Lcg(11);
-        for (case, range) in [(0, 20.0), (1, 200.0), (2, 5000.0)] {
-            let mut set = SmallVertexSet::new();
-            let mut listed: Vec<u32> = Vec::new();
-            for k in 0..400 {
-                let w = if k % 50 == 3 {
-                    // The table's empty marker, before and past the hashed part.
-                    u32::MAX
-                } else if k % 7 == 0 {
-                    (k as u32 % 5) << 25
-                } else {
-                    (rng.next() * range) as u32
-                };
-                let new = !listed.contains(&w);
-                assert_eq!(set.insert(w, &listed), new, "case {case}, step {k}, id {w}");
-                if new {
-                    listed.push(w);
-                }
-            }
-            if case > 0 {
-                assert!(listed.len() > 64, "case {case} passes the hashed part");
-            }
-        }
-    }
 }

@@ -14,6 +14,7 @@ mod rays;
 
 use crate::surface::FaceFunction;
 use crate::{ApatchError, ApatchSurface};
+use algesurf_mesh::progress::{NoProgress, Progress};
 use glam::DVec3;
 use numbering::Numbering;
 use rayon::prelude::*;
@@ -150,11 +151,18 @@ struct RayBlocks {
 
 impl RayBlocks {
     /// Evaluates the blocks in parallel; `fill(patch, out)` appends the patch's `per` rays.
-    fn new(count: usize, per: usize, fill: impl Fn(usize, &mut Vec<RayPoint>) + Sync) -> Self {
+    /// Each finished block's patches are reported to `progress` as units.
+    fn new(
+        count: usize,
+        per: usize,
+        fill: impl Fn(usize, &mut Vec<RayPoint>) + Sync,
+        progress: &dyn Progress,
+    ) -> Self {
         let size = block_size(count);
         let (blocks, at_start) = patch_blocks(count)
             .into_par_iter()
             .map(|patches| {
+                let units = patches.len() as u64;
                 let mut out = Vec::with_capacity(patches.len() * per);
                 let mut at_start = Vec::with_capacity(patches.len() * per);
                 for p in patches {
@@ -164,6 +172,7 @@ impl RayBlocks {
                     at_start.extend(out[before..].iter().map(|r| r.at_start));
                 }
                 debug_assert_eq!(out.len() % per.max(1), 0);
+                progress.advance(units);
                 (out, at_start)
             })
             .unzip();
@@ -198,6 +207,22 @@ impl ApatchSurface {
     /// writer). The numbering is that of a serial walk over the patches in order, so the
     /// output does not depend on the thread count.
     pub fn tessellate(&self, n: usize, m: usize) -> Result<Tessellation, ApatchError> {
+        self.tessellate_with_progress(n, m, &NoProgress)
+    }
+
+    /// [`ApatchSurface::tessellate`], reporting its steps to `progress`: the face patches'
+    /// and the edge patches' rays (counted per patch), then the numbering and the triangles
+    /// (not counted; a small part of the time). The tessellation is the same, bit for bit,
+    /// with any `progress`.
+    ///
+    /// # Errors
+    /// As [`ApatchSurface::tessellate`].
+    pub fn tessellate_with_progress(
+        &self,
+        n: usize,
+        m: usize,
+        progress: &dyn Progress,
+    ) -> Result<Tessellation, ApatchError> {
         if n == 0 || m == 0 {
             return Err(ApatchError::Degenerate(
                 "the resolution must be at least 1".into(),
@@ -223,16 +248,29 @@ impl ApatchSurface {
         // parallel made divan's repeated tessellations 10–25 % slower (a large allocation per
         // call). Blocks of `patches / 64` (at least 16, at most 1024) patches keep both cheap
         // and give every thread dozens of tasks.
-        let face_rays = RayBlocks::new(nf, per_face, |f, out| {
-            let rays = FaceRays::new(self, f);
-            out.extend(grid.iter().map(|g| face_ray(&rays, g, n)));
-        });
-        let edge_rays = RayBlocks::new(ne, inner, |e, out| match EdgeRays::new(self, e) {
-            Some(rays) => out.extend((0..inner).map(|k| edge_ray(&rays, k, n, m))),
-            None => out.extend(std::iter::repeat_n(RayPoint::default(), inner)),
-        });
+        progress.start("tessellation: face patches", nf as u64);
+        let face_rays = RayBlocks::new(
+            nf,
+            per_face,
+            |f, out| {
+                let rays = FaceRays::new(self, f);
+                out.extend(grid.iter().map(|g| face_ray(&rays, g, n)));
+            },
+            progress,
+        );
+        progress.start("tessellation: edge patches", ne as u64);
+        let edge_rays = RayBlocks::new(
+            ne,
+            inner,
+            |e, out| match EdgeRays::new(self, e) {
+                Some(rays) => out.extend((0..inner).map(|k| edge_ray(&rays, k, n, m))),
+                None => out.extend(std::iter::repeat_n(RayPoint::default(), inner)),
+            },
+            progress,
+        );
 
         // 2. Numbering.
+        progress.start("tessellation: numbering and triangles", 0);
         let edges_of = self.face_edges();
         let num = self.number_vertices(n, m, &grid, &edges_of, &face_rays, &edge_rays);
 

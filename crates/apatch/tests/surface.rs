@@ -253,3 +253,56 @@ fn a_degenerate_tetrahedron_on_a_sliver_face_names_the_face() {
     }
     assert!(e.to_string().starts_with("hull face "), "{e}");
 }
+
+/// Construction and tessellation report their steps, each counted step to exactly its
+/// element count, and reporting changes nothing: the same surface, bit for bit, as without.
+#[test]
+fn construction_and_tessellation_report_their_steps() {
+    use algesurf_mesh::progress::ProgressLog;
+    use algesurf_mesh::{NormalMethod, shapes, vertex_normals};
+    let mesh = shapes::torus(24, 12, 1.5, 0.6);
+    let normals = vertex_normals(&mesh, NormalMethod::Loop).unwrap();
+    let options = SurfaceOptions::default();
+    let log = ProgressLog::default();
+    let s = ApatchSurface::with_progress(&mesh, &normals, &options, &log).unwrap();
+    let plain = ApatchSurface::new(&mesh, &normals, &options).unwrap();
+    let (nf, ne) = (s.faces().len() as u64, s.edges().len() as u64);
+    let steps = log.steps();
+    let counted: Vec<(&str, u64, u64)> = steps
+        .iter()
+        .filter(|st| st.name.starts_with("surface: "))
+        .map(|st| (st.name.as_str(), st.total, st.done))
+        .collect();
+    assert_eq!(
+        counted,
+        [
+            ("surface: face functions", nf, nf),
+            ("surface: edge cubics", ne, ne),
+            ("surface: edge single-sheet bounds", ne, ne),
+        ]
+    );
+    assert_eq!(steps[0].name, "hull: edges");
+
+    let tess_log = ProgressLog::default();
+    let t = s.tessellate_with_progress(3, 2, &tess_log).unwrap();
+    let plain_t = plain.tessellate(3, 2).unwrap();
+    let bits = |p: &[DVec3]| -> Vec<[u64; 3]> {
+        p.iter().map(|v| v.to_array().map(f64::to_bits)).collect()
+    };
+    assert_eq!(bits(&t.positions), bits(&plain_t.positions));
+    assert_eq!(bits(&t.normals), bits(&plain_t.normals));
+    assert_eq!(t.triangles, plain_t.triangles);
+    let tess_steps: Vec<(String, u64, u64)> = tess_log
+        .steps()
+        .into_iter()
+        .map(|st| (st.name, st.total, st.done))
+        .collect();
+    assert_eq!(
+        tess_steps,
+        [
+            ("tessellation: face patches".into(), nf, nf),
+            ("tessellation: edge patches".into(), ne, ne),
+            ("tessellation: numbering and triangles".into(), 0, 0),
+        ]
+    );
+}

@@ -1,6 +1,7 @@
 //! `algesurf render IN -o OUT.png`: a PNG of a mesh (or, with `--smooth`, of its A-patch
 //! surface) in one of the renderer's modes, from preset views or an explicit camera.
 
+use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 
 use algesurf_inspect::render::{
@@ -185,7 +186,10 @@ pub fn run(args: &RenderArgs) -> Result<(), BoxError> {
         Vec::new()
     };
     let (mesh, source, wire_tolerance) = if args.smooth {
-        let mut s = build(args.input.as_deref(), &args.surface, false)?;
+        // Progress on a terminal, as `smooth` shows it (construction takes seconds on
+        // large meshes).
+        let progress = std::io::stderr().is_terminal();
+        let mut s = build(args.input.as_deref(), &args.surface, progress)?;
         let name = args
             .input
             .as_ref()
@@ -194,10 +198,11 @@ pub fn run(args: &RenderArgs) -> Result<(), BoxError> {
             .grid
             .fitting_steps(&s.surface)
             .map_err(|e| format!("{name}: {e}"))?;
-        let mut tess = s
-            .surface
-            .tessellate(n, m)
-            .map_err(|e| format!("{name}: cannot tessellate at resolution {n} × {m}: {e}"))?;
+        let (tess, _) = crate::stage::stage("tessellating", progress, |p| {
+            s.surface.tessellate_with_progress(n, m, p)
+        });
+        let mut tess =
+            tess.map_err(|e| format!("{name}: cannot tessellate at resolution {n} × {m}: {e}"))?;
         // In the input's coordinates, which an explicit camera (--eye, --target) is given in.
         crate::smooth::to_input_coordinates(s.origin, &mut s.tri, &mut tess.positions);
         let mut mesh = RenderMesh::from(&tess);

@@ -428,10 +428,10 @@ pub(crate) fn build(
     // Read and repair (the built-in mesh needs neither).
     let (tri, repair_text, repair_json) = match input {
         Some(path) => {
-            let (mesh, dt, faults) = measured("reading", progress, || crate::read_mesh(path));
+            let (mesh, dt, faults) = measured("reading", progress, |_| crate::read_mesh(path));
             (t.read, t.faults.read) = (dt, faults);
             let mesh = mesh?;
-            let (repaired, dt, faults) = measured("repairing", progress, || {
+            let (repaired, dt, faults) = measured("repairing", progress, |_| {
                 repair(&mesh, &RepairOptions::default())
             });
             (t.repair, t.faults.repair) = (dt, faults);
@@ -487,7 +487,7 @@ pub(crate) fn build(
             *p -= origin;
         }
     }
-    let (normals, dt, faults) = measured("normals", progress, || {
+    let (normals, dt, faults) = measured("normals", progress, |_| {
         vertex_normals(&tri, args.normals.method())
     });
     (t.normals, t.faults.normals) = (dt, faults);
@@ -520,8 +520,8 @@ pub(crate) fn build(
     } else {
         ""
     };
-    let (surface, dt, faults) = measured("building the hull and the surface", progress, || {
-        ApatchSurface::new(&tri, &normals, &options)
+    let (surface, dt, faults) = measured("building the hull and the surface", progress, |p| {
+        ApatchSurface::with_progress(&tri, &normals, &options, p)
     });
     (t.construction, t.faults.construction) = (dt, faults);
     let surface = surface.map_err(|e| match e {
@@ -630,7 +630,9 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
         .grid
         .fitting_steps(&surface)
         .map_err(|e| format!("{source}: {e}"))?;
-    let (tess, dt, faults) = measured("tessellating", progress, || surface.tessellate(n, m));
+    let (tess, dt, faults) = measured("tessellating", progress, |p| {
+        surface.tessellate_with_progress(n, m, p)
+    });
     (t.tessellation, t.faults.tessellation) = (dt, faults);
     let mut tess =
         tess.map_err(|e| format!("{source}: cannot tessellate at resolution {n} × {m}: {e}"))?;
@@ -658,15 +660,15 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
     // 0.06 s of waiting on the bunny's 88 MB PLY, `strace -T`), the check computation on the
     // thread pool; one after the other they took 0.11 + 0.40 s there. The check reads the
     // output mesh's positions, the tessellation's moved there.
-    let ((checked, written), dt, faults) = measured("checking and writing", progress, || {
+    let ((checked, written), dt, faults) = measured("checking and writing", progress, |_| {
         std::thread::scope(|scope| {
             // Each part timed on its own (no spinner: the pair has one).
             let writer = scope.spawn(|| {
-                stage("writing", false, || {
+                stage("writing", false, |_| {
                     algesurf_io::write(&output, &out_mesh, &write_options)
                 })
             });
-            let checked = stage("checking", false, || {
+            let checked = stage("checking", false, |_| {
                 (
                     crate::deviation::max_deviation(
                         &tri,

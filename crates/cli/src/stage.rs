@@ -1,6 +1,7 @@
 //! The `smooth` command's stages: each one timed, with its minor page faults, and a spinner
 //! on stderr when it runs longer than a second.
 
+use algesurf_mesh::progress::{NoProgress, Progress, ProgressCounter, ProgressSnapshot};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
@@ -40,7 +41,7 @@ pub(crate) struct StageFaults {
 pub(crate) fn measured<T>(
     name: &str,
     progress: bool,
-    f: impl FnOnce() -> T,
+    f: impl FnOnce(&dyn Progress) -> T,
 ) -> (T, f64, Option<u64>) {
     let before = crate::memory::minor_faults();
     let (r, dt) = stage(name, progress, f);
@@ -50,32 +51,128 @@ pub(crate) fn measured<T>(
     (r, dt, faults)
 }
 
-/// Runs `f`, timing it; with `progress`, shows a spinner named `name` on stderr once it has
-/// run for a second.
-pub(crate) fn stage<T>(name: &str, progress: bool, f: impl FnOnce() -> T) -> (T, f64) {
+/// How often the progress display reads the stage's counter and redraws.
+const REDRAW: Duration = Duration::from_millis(100);
+
+/// Runs `f`, timing it; with `progress`, shows on stderr, once the stage has run for a
+/// second, a spinner named `name`, or the step `f` reports to the [`Progress`] it is given
+/// with a bar where the step has a count ([`bar_text`]).
+pub(crate) fn stage<T>(name: &str, progress: bool, f: impl FnOnce(&dyn Progress) -> T) -> (T, f64) {
     let start = Instant::now();
     if !progress {
-        let r = f();
+        let r = f(&NoProgress);
         return (r, start.elapsed().as_secs_f64());
     }
+    let counter = ProgressCounter::new();
     let (tx, rx) = mpsc::channel::<()>();
     let r = std::thread::scope(|s| {
+        let counter = &counter;
         s.spawn(move || {
             if rx.recv_timeout(Duration::from_secs(1)) != Err(mpsc::RecvTimeoutError::Timeout) {
                 return;
             }
-            let bar = indicatif::ProgressBar::new_spinner().with_message(name.to_string());
-            bar.set_style(
-                indicatif::ProgressStyle::with_template("{spinner} {msg} {elapsed}")
-                    .unwrap_or_else(|_| indicatif::ProgressStyle::default_spinner()),
-            );
-            bar.enable_steady_tick(Duration::from_millis(100));
-            let _ = rx.recv(); // returns when the stage drops the sender
-            bar.finish_and_clear();
+            // A bar per step, made whole before it is first drawn (changing a drawn bar's
+            // message, length and count one by one drew frames that mixed two steps). Its
+            // clock counts from the stage's start, not from the second it waited.
+            let bar_for = |message: String, length: u64, done: u64| {
+                let template = if length > 0 {
+                    "{spinner} {msg} [{bar:30}] {pos}/{len} {elapsed}"
+                } else {
+                    "{spinner} {msg} {elapsed}"
+                };
+                indicatif::ProgressBar::with_draw_target(
+                    Some(length),
+                    indicatif::ProgressDrawTarget::stderr(),
+                )
+                .with_style(
+                    indicatif::ProgressStyle::with_template(template)
+                        .unwrap_or_else(|_| indicatif::ProgressStyle::default_spinner()),
+                )
+                .with_message(message)
+                .with_position(done)
+                .with_elapsed(start.elapsed())
+            };
+            let mut shown: Option<((String, u64), indicatif::ProgressBar)> = None;
+            loop {
+                let now = counter.snapshot();
+                let text = bar_text(name, &now);
+                match &shown {
+                    Some((was, bar)) if *was == text => bar.set_position(now.done),
+                    _ => {
+                        if let Some((_, old)) = shown.take() {
+                            old.finish_and_clear();
+                        }
+                        let bar = bar_for(text.0.clone(), text.1, now.done);
+                        shown = Some((text, bar));
+                    }
+                }
+                if let Some((_, bar)) = &shown {
+                    bar.tick();
+                }
+                // Returns when the stage drops the sender.
+                if rx.recv_timeout(REDRAW) != Err(mpsc::RecvTimeoutError::Timeout) {
+                    break;
+                }
+            }
+            if let Some((_, bar)) = shown {
+                bar.finish_and_clear();
+            }
         });
-        let r = f();
+        let r = f(counter);
         drop(tx);
         r
     });
     (r, start.elapsed().as_secs_f64())
+}
+
+/// The progress display's message and bar length for the stage `name` at `now`: the stage's
+/// name alone until it reports a step, then the name and the step; the step's count as the
+/// length (0: no bar, a spinner only).
+pub(crate) fn bar_text(name: &str, now: &ProgressSnapshot) -> (String, u64) {
+    if now.step.is_empty() {
+        (name.to_string(), 0)
+    } else {
+        (format!("{name} ({})", now.step), now.total)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The display names the stage, and the step once there is one, with a bar exactly
+    /// where the step has a count.
+    #[test]
+    fn the_bar_names_the_stage_and_its_step() {
+        let counter = ProgressCounter::new();
+        assert_eq!(
+            bar_text("tessellating", &counter.snapshot()),
+            ("tessellating".to_string(), 0)
+        );
+        counter.start("tessellation: face patches", 120);
+        counter.advance(64);
+        let now = counter.snapshot();
+        assert_eq!(
+            bar_text("tessellating", &now),
+            ("tessellating (tessellation: face patches)".to_string(), 120)
+        );
+        assert_eq!(now.done, 64);
+        counter.start("hull: refinement round 2 (31 overlapping pairs)", 0);
+        assert_eq!(bar_text("building", &counter.snapshot()).1, 0);
+    }
+
+    /// A stage gives its closure a sink that records its steps when progress is shown, and
+    /// returns the closure's value either way.
+    #[test]
+    fn a_stage_passes_its_progress_on() {
+        for shown in [false, true] {
+            let (r, dt) = stage("counting", shown, |p| {
+                p.start("step", 3);
+                p.advance(3);
+                7
+            });
+            assert_eq!(r, 7);
+            assert!(dt >= 0.0);
+        }
+    }
 }

@@ -7,7 +7,10 @@ use crate::classify::{
 use crate::{ApexPlacement, HullError, HullOptions};
 use algesurf_bb::Tetrahedron;
 use algesurf_mesh::TriMesh;
-use algesurf_mesh::parallel::{collect_first_error, collect_first_error_into};
+use algesurf_mesh::parallel::{
+    collect_first_error_into_with_progress, collect_first_error_with_progress,
+};
+use algesurf_mesh::progress::{Progress, UnitTally};
 use glam::DVec3;
 use rayon::prelude::*;
 
@@ -380,7 +383,7 @@ impl Inputs<'_> {
     }
 }
 
-/// A record to fill a failed slot of [`collect_first_error`] with (never returned).
+/// A record to fill a failed slot of [`collect_first_error_with_progress`] with (never returned).
 pub(crate) fn filler_edge() -> HullEdge {
     HullEdge {
         vertices: [0, 0],
@@ -395,7 +398,7 @@ pub(crate) fn filler_edge() -> HullEdge {
     }
 }
 
-/// A record to fill a failed slot of [`collect_first_error_into`] with (never returned).
+/// A record to fill a failed slot of [`collect_first_error_into_with_progress`] with (never returned).
 pub(crate) fn filler_face() -> HullFace {
     HullFace {
         vertices: [0; 3],
@@ -418,6 +421,7 @@ pub(crate) fn build(
     normals: &[DVec3],
     face_map: &[u32],
     opts: &HullOptions,
+    progress: &dyn Progress,
 ) -> Result<(Vec<HullFace>, Vec<HullEdge>), HullError> {
     let topo = mesh.topology();
     let tris = mesh.triangles();
@@ -428,7 +432,8 @@ pub(crate) fn build(
         opts,
     };
     // Edges: orientation, faces, classification.
-    let mut edges: Vec<HullEdge> = collect_first_error(
+    progress.start("hull: edges", topo.edge_count() as u64);
+    let mut edges: Vec<HullEdge> = collect_first_error_with_progress(
         topo.edge_count(),
         |e| {
             let e = e as u32;
@@ -458,13 +463,15 @@ pub(crate) fn build(
             Ok(inputs.edge([i, j], face_k, k, other))
         },
         filler_edge,
+        progress,
     )?;
 
     // Faces: classification and face tetrahedra (§3.1). Room for the halves that refinement
     // rounds append (a few hundred faces on the bunny), so that they do not move the 43 MB
     // vector to fresh memory.
     let mut faces = Vec::with_capacity(tris.len() + tris.len() / 64 + 16);
-    collect_first_error_into(
+    progress.start("hull: faces", tris.len() as u64);
+    collect_first_error_into_with_progress(
         &mut faces,
         tris.len(),
         |f| {
@@ -473,13 +480,21 @@ pub(crate) fn build(
             inputs.face(f, tris[f], fe, fe.map(|e| edges[e as usize].convexity))
         },
         filler_face,
+        progress,
     )?;
 
     // Edge tetrahedra (§3.2).
+    let tally = UnitTally::start(progress, "hull: edge tetrahedra", edges.len());
     let done: Vec<Result<(), HullError>> = edges
         .par_iter_mut()
-        .map(|edge| inputs.edge_tetrahedra(edge, &faces))
+        .enumerate()
+        .map(|(i, edge)| {
+            let r = inputs.edge_tetrahedra(edge, &faces);
+            tally.unit_done(i);
+            r
+        })
         .collect();
+    tally.finish();
     done.into_iter().collect::<Result<(), _>>()?;
     Ok((faces, edges))
 }

@@ -6,6 +6,7 @@ use crate::hull::{HullEdge, HullFace, build as build_faces_edges, check_input};
 use crate::refine::RefineState;
 use crate::{HullError, HullOptions};
 use algesurf_mesh::TriMesh;
+use algesurf_mesh::progress::{NoProgress, Progress};
 use glam::DVec3;
 use std::collections::HashMap;
 
@@ -111,7 +112,7 @@ impl SimplicialHull {
         options: &HullOptions,
     ) -> Result<SimplicialHull, HullError> {
         let mesh = TriMesh::new(positions.to_vec(), triangles.to_vec())?;
-        Self::build(mesh, normals.to_vec(), options)
+        Self::build(mesh, normals.to_vec(), options, &NoProgress)
     }
 
     /// As [`SimplicialHull::new`], for a [`TriMesh`] (its positions and triangles; the face map
@@ -124,14 +125,47 @@ impl SimplicialHull {
         normals: &[DVec3],
         options: &HullOptions,
     ) -> Result<SimplicialHull, HullError> {
+        Self::from_mesh_with_progress(mesh, normals, options, &NoProgress)
+    }
+
+    /// [`SimplicialHull::from_mesh`], reporting its steps to `progress`: the edges, the faces
+    /// and the edge tetrahedra (each with its count of elements), the overlap check, and every
+    /// refinement round (named with its number and the overlapping pairs it separates; no
+    /// count, as a round's work is not known before it runs). The hull is the same with any
+    /// `progress`.
+    ///
+    /// ```
+    /// use algesurf_hull::{HullOptions, SimplicialHull};
+    /// use algesurf_mesh::progress::{Progress, ProgressCounter};
+    /// use algesurf_mesh::{NormalMethod, shapes, vertex_normals};
+    ///
+    /// let mesh = shapes::icosphere(2);
+    /// let normals = vertex_normals(&mesh, NormalMethod::Loop)?;
+    /// let counter = ProgressCounter::new();
+    /// let hull =
+    ///     SimplicialHull::from_mesh_with_progress(&mesh, &normals, &HullOptions::default(), &counter)?;
+    /// assert_eq!(hull.faces().len(), mesh.face_count());
+    /// assert_eq!(counter.snapshot().step, "hull: overlap check");
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    ///
+    /// # Errors
+    /// See [`SimplicialHull::new`].
+    pub fn from_mesh_with_progress(
+        mesh: &TriMesh,
+        normals: &[DVec3],
+        options: &HullOptions,
+        progress: &dyn Progress,
+    ) -> Result<SimplicialHull, HullError> {
         // The mesh's own topology, copied rather than built again (`TriMesh::plain_copy`).
-        Self::build(mesh.plain_copy(), normals.to_vec(), options)
+        Self::build(mesh.plain_copy(), normals.to_vec(), options, progress)
     }
 
     fn build(
         mesh: TriMesh,
         normals: Vec<DVec3>,
         options: &HullOptions,
+        progress: &dyn Progress,
     ) -> Result<SimplicialHull, HullError> {
         options.validate()?;
         check_input(&mesh, &normals)?;
@@ -141,7 +175,7 @@ impl SimplicialHull {
         } else {
             CrossingZone::default()
         };
-        Self::refine(RefineState::new(mesh, normals), zone, options, 0)
+        Self::refine(RefineState::new(mesh, normals), zone, options, 0, progress)
     }
 
     /// Bisects the faces `faces` (ids of this hull's mesh) by longest-edge propagation, as a
@@ -157,6 +191,19 @@ impl SimplicialHull {
     /// # Errors
     /// As [`SimplicialHull::new`]; [`HullError::Mesh`] if a face id is out of range.
     pub fn refine_faces(&self, faces: &[u32]) -> Result<SimplicialHull, HullError> {
+        self.refine_faces_with_progress(faces, &NoProgress)
+    }
+
+    /// [`SimplicialHull::refine_faces`], reporting its steps to `progress` as
+    /// [`SimplicialHull::from_mesh_with_progress`] does.
+    ///
+    /// # Errors
+    /// As [`SimplicialHull::refine_faces`].
+    pub fn refine_faces_with_progress(
+        &self,
+        faces: &[u32],
+        progress: &dyn Progress,
+    ) -> Result<SimplicialHull, HullError> {
         let round = self.refinements.last().map_or(0, |r| r.round + 1);
         let mut state = RefineState::from_parts(
             self.mesh.clone(),
@@ -187,7 +234,7 @@ impl SimplicialHull {
             state.bisect_face(f, c, round)?;
         }
         state.finish_round()?;
-        Self::refine(state, self.zone.clone(), &self.options, round + 1)
+        Self::refine(state, self.zone.clone(), &self.options, round + 1, progress)
     }
 
     /// The build-check-refine loop of [`SimplicialHull::new`] from `state`, numbering its
@@ -198,11 +245,17 @@ impl SimplicialHull {
         zone: CrossingZone,
         options: &HullOptions,
         first_round: usize,
+        progress: &dyn Progress,
     ) -> Result<SimplicialHull, HullError> {
         // Splits made before (`refine_faces`) are in the mesh this round builds in full.
         state.take_changes();
-        let (faces, edges) =
-            build_faces_edges(&state.mesh, &state.normals, &state.face_map, options)?;
+        let (faces, edges) = build_faces_edges(
+            &state.mesh,
+            &state.normals,
+            &state.face_map,
+            options,
+            progress,
+        )?;
         // The mesh moves into the hull (and back out for the splits; a clone was 10 MB of
         // copying on the bunny), which takes the state's bookkeeping when done.
         let take_mesh = |state: &mut RefineState| {
@@ -263,6 +316,7 @@ impl SimplicialHull {
                 .filter(|h| !rounds::unremovable(component, &zone, &state.face_map, h))
                 .collect()
         };
+        progress.start("hull: overlap check", 0);
         let (found, index) = hull.indexed_intersections();
         let found = found.iter().map(|h| hull.overlap(h)).collect();
         let mut hits = removable(&state, found);
@@ -354,6 +408,14 @@ impl SimplicialHull {
                 state.bisect_face(f, corners, round)?;
             }
             round += 1;
+            progress.start(
+                &format!(
+                    "hull: refinement round {} ({} overlapping pairs)",
+                    round - first_round,
+                    hits.len()
+                ),
+                0,
+            );
             let found = rounds
                 .round(&mut state, options)
                 .map_err(|e| unresolved(round, format!("refining made the hull invalid: {e}")))?;

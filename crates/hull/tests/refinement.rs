@@ -449,3 +449,59 @@ fn refining_given_faces_keeps_the_input_and_the_face_map() {
         Err(HullError::Mesh(_))
     ));
 }
+
+/// The hull reports its steps in the order it takes them: edges, faces and edge tetrahedra
+/// (each counted to its element count), the overlap check, then one step per refinement round
+/// named with its number and the pairs it separates; and a hull built with progress is the
+/// hull built without.
+#[test]
+fn refinement_rounds_are_reported_as_progress() {
+    use algesurf_mesh::TriMesh;
+    use algesurf_mesh::progress::ProgressLog;
+    let (p, t, n) = height_field(2, wave(0.5, 4.0));
+    let mesh = TriMesh::new(p, t).unwrap();
+    let log = ProgressLog::default();
+    let hull = SimplicialHull::from_mesh_with_progress(&mesh, &n, &paper(), &log).unwrap();
+    let plain = SimplicialHull::from_mesh(&mesh, &n, &paper()).unwrap();
+    assert_eq!(hull.mesh().positions(), plain.mesh().positions());
+    assert_eq!(hull.mesh().triangles(), plain.mesh().triangles());
+    let apexes =
+        |h: &SimplicialHull| -> Vec<Option<DVec3>> { h.faces().iter().map(|f| f.u()).collect() };
+    assert_eq!(apexes(&hull), apexes(&plain));
+
+    let steps = log.steps();
+    let names: Vec<&str> = steps.iter().map(|s| s.name.as_str()).collect();
+    assert_eq!(
+        names[..4],
+        [
+            "hull: edges",
+            "hull: faces",
+            "hull: edge tetrahedra",
+            "hull: overlap check"
+        ]
+    );
+    let input = mesh.topology();
+    let counts = [input.edge_count(), mesh.face_count(), input.edge_count()];
+    for (step, count) in steps.iter().zip(counts) {
+        assert_eq!(
+            (step.total, step.done),
+            (count as u64, count as u64),
+            "{step:?}"
+        );
+    }
+    // Every round that ran, numbered from 1, each with the pairs it set out to separate.
+    let rounds = hull
+        .refinements()
+        .iter()
+        .map(|r| r.round + 1)
+        .max()
+        .unwrap();
+    assert!(rounds >= 1);
+    for (k, step) in steps[4..].iter().enumerate() {
+        let prefix = format!("hull: refinement round {} (", k + 1);
+        assert!(step.name.starts_with(&prefix), "{step:?}");
+        assert!(step.name.ends_with(" overlapping pairs)"), "{step:?}");
+        assert_eq!((step.total, step.done), (0, 0), "{step:?}");
+    }
+    assert_eq!(steps.len() - 4, rounds, "{names:?}");
+}

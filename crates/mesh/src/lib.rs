@@ -62,6 +62,7 @@ pub use butterfly_normal::{BUTTERFLY_NORMAL_LEVELS, butterfly_limit_normal};
 mod folds;
 pub mod normals;
 pub mod parallel;
+pub mod progress;
 pub use normals::{
     DEFAULT_MIN_NORMAL_COSINE, NormalMethod, STEEP_NORMAL_DEGREES, condition_normals,
     condition_vertex_normals, cone_axis, face_cone_axis, file_normal_changes, loop_limit_normal,

@@ -1,5 +1,6 @@
 //! Parallel loops over mesh elements whose result must not depend on the thread count.
 
+use crate::progress::{NoProgress, Progress, UnitTally};
 use rayon::prelude::*;
 use std::sync::Mutex;
 
@@ -69,12 +70,48 @@ pub fn collect_first_error_into<T: Send, E: Send>(
     f: impl Fn(usize) -> Result<T, E> + Sync,
     filler: impl Fn() -> T + Sync,
 ) -> Result<(), E> {
+    collect_first_error_into_with_progress(out, n, f, filler, &NoProgress)
+}
+
+/// [`collect_first_error`], reporting each finished item as a unit of the current step of
+/// `progress` (in batches, [`UnitTally`]; the caller starts the step with its total `n`).
+///
+/// # Errors
+/// The error of the least failing index, as [`collect_first_error`].
+pub fn collect_first_error_with_progress<T: Send, E: Send>(
+    n: usize,
+    f: impl Fn(usize) -> Result<T, E> + Sync,
+    filler: impl Fn() -> T + Sync,
+    progress: &dyn Progress,
+) -> Result<Vec<T>, E> {
+    let mut out = Vec::new();
+    collect_first_error_into_with_progress(&mut out, n, f, filler, progress)?;
+    Ok(out)
+}
+
+/// [`collect_first_error_into`] with the progress reports of
+/// [`collect_first_error_with_progress`].
+///
+/// # Errors
+/// The error of the least failing index, as [`collect_first_error`].
+pub fn collect_first_error_into_with_progress<T: Send, E: Send>(
+    out: &mut Vec<T>,
+    n: usize,
+    f: impl Fn(usize) -> Result<T, E> + Sync,
+    filler: impl Fn() -> T + Sync,
+    progress: &dyn Progress,
+) -> Result<(), E> {
+    // The step was started by the caller; the tally only counts (its `start` is not used
+    // so that a caller can name the step once for several loops).
+    let tally = UnitTally::counting(progress, n);
     let first: Mutex<Option<(usize, E)>> = Mutex::new(None);
     (0..n)
         .into_par_iter()
         .with_max_len(GRAIN)
         .map(|i| {
-            f(i).unwrap_or_else(|e| {
+            let r = f(i);
+            tally.unit_done(i);
+            r.unwrap_or_else(|e| {
                 // A poisoned lock only means another closure panicked; the slot is still valid.
                 let mut slot = first.lock().unwrap_or_else(|p| p.into_inner());
                 if slot.as_ref().is_none_or(|(j, _)| i < *j) {
@@ -84,6 +121,7 @@ pub fn collect_first_error_into<T: Send, E: Send>(
             })
         })
         .collect_into_vec(out);
+    tally.finish();
     match first.into_inner().unwrap_or_else(|p| p.into_inner()) {
         Some((_, e)) => Err(e),
         None => Ok(()),

@@ -468,6 +468,7 @@ mod tests {
     use crate::hull::build;
     use crate::{ApexPlacement, SimplicialHull};
     use algesurf_mesh::TriMesh;
+    use algesurf_mesh::progress::NoProgress;
 
     /// `z = a sin(ωx) sin(ωy)` on an `n × n` grid over `[−1, 1]²` with exact unit normals,
     /// counter-clockwise seen from +z: with the paper's apexes on the face normals, adjacent
@@ -557,8 +558,14 @@ mod tests {
                 "n = {n}: sixteen rounds were not enough"
             );
             let (faces, edges) = rounds.finish(&mut state).unwrap();
-            let (scratch_faces, scratch_edges) =
-                build(&state.mesh, &state.normals, &state.face_map, &opts).unwrap();
+            let (scratch_faces, scratch_edges) = build(
+                &state.mesh,
+                &state.normals,
+                &state.face_map,
+                &opts,
+                &NoProgress,
+            )
+            .unwrap();
             assert_eq!(faces, scratch_faces, "n = {n}");
             assert_eq!(edges, scratch_edges, "n = {n}");
         }
@@ -579,8 +586,14 @@ mod tests {
             "{}",
             hull.refinements().len()
         );
-        let (faces, edges) =
-            build(hull.mesh(), hull.normals(), hull.face_map(), hull.options()).unwrap();
+        let (faces, edges) = build(
+            hull.mesh(),
+            hull.normals(),
+            hull.face_map(),
+            hull.options(),
+            &NoProgress,
+        )
+        .unwrap();
         assert_eq!(hull.faces(), faces.as_slice());
         assert_eq!(hull.edges(), edges.as_slice());
         assert!(hull.intersections().is_empty());
