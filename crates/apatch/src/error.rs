@@ -67,6 +67,17 @@ pub enum ApatchError {
         /// What went wrong there.
         source: Box<ApatchError>,
     },
+    /// The [`algesurf_mesh::progress::Progress`] given to a `_with_progress` form asked to
+    /// stop (in the hull's construction too: it is this variant, not
+    /// `Hull(HullError::Cancelled)`); no surface or tessellation was made.
+    #[error("cancelled")]
+    Cancelled,
+}
+
+impl From<algesurf_mesh::progress::Cancelled> for ApatchError {
+    fn from(_: algesurf_mesh::progress::Cancelled) -> Self {
+        ApatchError::Cancelled
+    }
 }
 
 impl ApatchError {

@@ -2,7 +2,7 @@
 
 use crate::sheet::certified_face_bound;
 use crate::{ApatchError, EdgeCubic, EdgeNeighbour, FaceCubic, Quadric, SplitFace, VertexData};
-use algesurf_hull::{Convexity, HullOptions, Side, SimplicialHull};
+use algesurf_hull::{Convexity, HullError, HullOptions, Side, SimplicialHull};
 use algesurf_mesh::TriMesh;
 use algesurf_mesh::parallel::collect_first_error_with_progress;
 use algesurf_mesh::progress::{NoProgress, Progress};
@@ -242,7 +242,9 @@ impl ApatchSurface {
     /// ([`SimplicialHull::from_mesh_with_progress`]), then the face functions and the edge
     /// cubics (each counted per face or edge of the hull), the edges' single-sheet bounds
     /// (per edge), and any refinement at edges whose A-patch cannot be made single-sheeted.
-    /// The surface is the same, bit for bit, with any `progress`.
+    /// The surface is the same, bit for bit, with any `progress`; when `progress` asks to
+    /// stop ([`Progress::cancelled`], polled per batch of faces or edges and between steps),
+    /// the build returns [`ApatchError::Cancelled`] soon after.
     ///
     /// ```
     /// use algesurf_apatch::{ApatchSurface, SurfaceOptions};
@@ -262,7 +264,7 @@ impl ApatchSurface {
     /// ```
     ///
     /// # Errors
-    /// As [`ApatchSurface::new`].
+    /// As [`ApatchSurface::new`]; [`ApatchError::Cancelled`] when `progress` asked to stop.
     pub fn with_progress(
         mesh: &TriMesh,
         normals: &[DVec3],
@@ -290,8 +292,14 @@ impl ApatchSurface {
             }
         };
         let start = std::time::Instant::now();
+        // A cancelled hull is this crate's `Cancelled`, as everywhere else in the build.
+        let cancelled = |e: HullError| match e {
+            HullError::Cancelled => ApatchError::Cancelled,
+            e => ApatchError::Hull(e),
+        };
         let mut hull =
-            SimplicialHull::from_mesh_with_progress(mesh, &normals, &options.hull, progress)?;
+            SimplicialHull::from_mesh_with_progress(mesh, &normals, &options.hull, progress)
+                .map_err(cancelled)?;
         let mut hull_time = start.elapsed();
         // An edge A-patch that no apex value makes single-sheeted is a local defect of the
         // hull there (a thin, skewed edge tetrahedron whose C1 continuation weights turn
@@ -322,7 +330,9 @@ impl ApatchSurface {
                         ),
                         0,
                     );
-                    hull = hull.refine_faces_with_progress(&faces, progress)?;
+                    hull = hull
+                        .refine_faces_with_progress(&faces, progress)
+                        .map_err(cancelled)?;
                     hull_time += again.elapsed();
                     refined_edges += 1;
                 }

@@ -14,11 +14,12 @@ mod rays;
 
 use crate::surface::FaceFunction;
 use crate::{ApatchError, ApatchSurface};
-use algesurf_mesh::progress::{NoProgress, Progress};
+use algesurf_mesh::progress::{Cancelled, NoProgress, Progress};
 use glam::DVec3;
 use numbering::Numbering;
 use rayon::prelude::*;
 use rays::{EdgeRays, FaceRays};
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// What a patch of the output is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -151,17 +152,25 @@ struct RayBlocks {
 
 impl RayBlocks {
     /// Evaluates the blocks in parallel; `fill(patch, out)` appends the patch's `per` rays.
-    /// Each finished block's patches are reported to `progress` as units.
+    /// Each finished block's patches are reported to `progress` as units; once it asks to
+    /// stop, the blocks not yet begun are skipped and the result is [`Cancelled`].
     fn new(
         count: usize,
         per: usize,
         fill: impl Fn(usize, &mut Vec<RayPoint>) + Sync,
         progress: &dyn Progress,
-    ) -> Self {
+    ) -> Result<Self, Cancelled> {
         let size = block_size(count);
+        // Latched: a sink may answer `cancelled` differently later, and a skipped block must
+        // never be read.
+        let skipped = AtomicBool::new(false);
         let (blocks, at_start) = patch_blocks(count)
             .into_par_iter()
             .map(|patches| {
+                if skipped.load(Ordering::Relaxed) || progress.cancelled() {
+                    skipped.store(true, Ordering::Relaxed);
+                    return (Vec::new(), Vec::new());
+                }
                 let units = patches.len() as u64;
                 let mut out = Vec::with_capacity(patches.len() * per);
                 let mut at_start = Vec::with_capacity(patches.len() * per);
@@ -176,12 +185,15 @@ impl RayBlocks {
                 (out, at_start)
             })
             .unzip();
-        RayBlocks {
+        if skipped.into_inner() {
+            return Err(Cancelled);
+        }
+        Ok(RayBlocks {
             blocks,
             at_start,
             size,
             per,
-        }
+        })
     }
 
     /// Which rays of patch `p` stay at their start.
@@ -213,10 +225,12 @@ impl ApatchSurface {
     /// [`ApatchSurface::tessellate`], reporting its steps to `progress`: the face patches'
     /// and the edge patches' rays (counted per patch), then the numbering and the triangles
     /// (not counted; a small part of the time). The tessellation is the same, bit for bit,
-    /// with any `progress`.
+    /// with any `progress`; when `progress` asks to stop (polled per block of patches), it
+    /// returns [`ApatchError::Cancelled`] once the blocks under way are done.
     ///
     /// # Errors
-    /// As [`ApatchSurface::tessellate`].
+    /// As [`ApatchSurface::tessellate`]; [`ApatchError::Cancelled`] when `progress` asked to
+    /// stop.
     pub fn tessellate_with_progress(
         &self,
         n: usize,
@@ -257,7 +271,7 @@ impl ApatchSurface {
                 out.extend(grid.iter().map(|g| face_ray(&rays, g, n)));
             },
             progress,
-        );
+        )?;
         progress.start("tessellation: edge patches", ne as u64);
         let edge_rays = RayBlocks::new(
             ne,
@@ -267,7 +281,7 @@ impl ApatchSurface {
                 None => out.extend(std::iter::repeat_n(RayPoint::default(), inner)),
             },
             progress,
-        );
+        )?;
 
         // 2. Numbering.
         progress.start("tessellation: numbering and triangles", 0);

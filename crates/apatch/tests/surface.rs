@@ -306,3 +306,36 @@ fn construction_and_tessellation_report_their_steps() {
         ]
     );
 }
+
+/// A sink that asks to stop ends construction or tessellation with `Cancelled` (also when it
+/// asks during the hull's steps), and a counted step stops well before its end.
+#[test]
+fn a_cancelled_construction_or_tessellation_stops_with_cancelled() {
+    use algesurf_apatch::ApatchError;
+    use algesurf_mesh::progress::ProgressLog;
+    use algesurf_mesh::{NormalMethod, shapes, vertex_normals};
+    let mesh = shapes::torus(48, 24, 1.5, 0.6);
+    let normals = vertex_normals(&mesh, NormalMethod::Loop).unwrap();
+    let options = SurfaceOptions::default();
+    for at in [
+        "hull: edges",
+        "surface: face functions",
+        "surface: edge cubics",
+        "surface: edge single-sheet bounds",
+    ] {
+        let log = ProgressLog::cancelling_at(at);
+        let r = ApatchSurface::with_progress(&mesh, &normals, &options, &log);
+        assert_eq!(r.err(), Some(ApatchError::Cancelled), "cancelled at {at}");
+        let last = log.steps().pop().unwrap();
+        assert!(last.name.starts_with(at), "{at}: stopped after {last:?}");
+        // Every thread stops at its next batch of 64: far from the step's 2 304 or 3 456.
+        assert!(last.done < last.total / 2, "{at}: {last:?}");
+    }
+    let s = ApatchSurface::new(&mesh, &normals, &options).unwrap();
+    for at in ["tessellation: face patches", "tessellation: edge patches"] {
+        let log = ProgressLog::cancelling_at(at);
+        let r = s.tessellate_with_progress(4, 4, &log);
+        assert_eq!(r.err(), Some(ApatchError::Cancelled), "cancelled at {at}");
+        assert!(log.steps().pop().unwrap().name.starts_with(at));
+    }
+}

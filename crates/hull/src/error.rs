@@ -111,4 +111,14 @@ pub enum HullError {
     /// An option is out of its documented range.
     #[error("invalid option: {0}")]
     InvalidOption(String),
+    /// The [`algesurf_mesh::progress::Progress`] given to a `_with_progress` form asked to
+    /// stop; no hull was made.
+    #[error("cancelled")]
+    Cancelled,
+}
+
+impl From<algesurf_mesh::progress::Cancelled> for HullError {
+    fn from(_: algesurf_mesh::progress::Cancelled) -> Self {
+        HullError::Cancelled
+    }
 }

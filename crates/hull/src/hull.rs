@@ -489,12 +489,15 @@ pub(crate) fn build(
         .par_iter_mut()
         .enumerate()
         .map(|(i, edge)| {
+            if tally.stopped() {
+                return Ok(());
+            }
             let r = inputs.edge_tetrahedra(edge, &faces);
             tally.unit_done(i);
             r
         })
         .collect();
-    tally.finish();
+    tally.finish()?;
     done.into_iter().collect::<Result<(), _>>()?;
     Ok((faces, edges))
 }

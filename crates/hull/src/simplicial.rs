@@ -6,7 +6,7 @@ use crate::hull::{HullEdge, HullFace, build as build_faces_edges, check_input};
 use crate::refine::RefineState;
 use crate::{HullError, HullOptions};
 use algesurf_mesh::TriMesh;
-use algesurf_mesh::progress::{NoProgress, Progress};
+use algesurf_mesh::progress::{NoProgress, Progress, check_cancelled};
 use glam::DVec3;
 use std::collections::HashMap;
 
@@ -132,7 +132,9 @@ impl SimplicialHull {
     /// and the edge tetrahedra (each with its count of elements), the overlap check, and every
     /// refinement round (named with its number and the overlapping pairs it separates; no
     /// count, as a round's work is not known before it runs). The hull is the same with any
-    /// `progress`.
+    /// `progress`. It stops with [`HullError::Cancelled`] when `progress` asks
+    /// ([`Progress::cancelled`]: polled per batch of elements, before and after the overlap
+    /// check and at every round).
     ///
     /// ```
     /// use algesurf_hull::{HullOptions, SimplicialHull};
@@ -150,7 +152,7 @@ impl SimplicialHull {
     /// ```
     ///
     /// # Errors
-    /// See [`SimplicialHull::new`].
+    /// See [`SimplicialHull::new`]; [`HullError::Cancelled`] when `progress` asked to stop.
     pub fn from_mesh_with_progress(
         mesh: &TriMesh,
         normals: &[DVec3],
@@ -198,7 +200,8 @@ impl SimplicialHull {
     /// [`SimplicialHull::from_mesh_with_progress`] does.
     ///
     /// # Errors
-    /// As [`SimplicialHull::refine_faces`].
+    /// As [`SimplicialHull::refine_faces`]; [`HullError::Cancelled`] when `progress` asked to
+    /// stop.
     pub fn refine_faces_with_progress(
         &self,
         faces: &[u32],
@@ -317,7 +320,9 @@ impl SimplicialHull {
                 .collect()
         };
         progress.start("hull: overlap check", 0);
+        check_cancelled(progress)?;
         let (found, index) = hull.indexed_intersections();
+        check_cancelled(progress)?;
         let found = found.iter().map(|h| hull.overlap(h)).collect();
         let mut hits = removable(&state, found);
         if hits.is_empty() {
@@ -416,6 +421,7 @@ impl SimplicialHull {
                 ),
                 0,
             );
+            check_cancelled(progress)?;
             let found = rounds
                 .round(&mut state, options)
                 .map_err(|e| unresolved(round, format!("refining made the hull invalid: {e}")))?;

@@ -505,3 +505,24 @@ fn refinement_rounds_are_reported_as_progress() {
     }
     assert_eq!(steps.len() - 4, rounds, "{names:?}");
 }
+
+/// A sink that asks to stop ends the build with `Cancelled`, whether it asks in a counted
+/// step (the faces), at the overlap check or in a refinement round.
+#[test]
+fn a_cancelled_build_stops_with_cancelled() {
+    use algesurf_mesh::TriMesh;
+    use algesurf_mesh::progress::ProgressLog;
+    let (p, t, n) = height_field(2, wave(0.5, 4.0));
+    let mesh = TriMesh::new(p, t).unwrap();
+    for at in [
+        "hull: faces",
+        "hull: overlap check",
+        "hull: refinement round 1",
+    ] {
+        let log = ProgressLog::cancelling_at(at);
+        let r = SimplicialHull::from_mesh_with_progress(&mesh, &n, &paper(), &log);
+        assert_eq!(r.err(), Some(HullError::Cancelled), "cancelled at {at}");
+        let last = log.steps().pop().unwrap();
+        assert!(last.name.starts_with(at), "{at}: stopped after {last:?}");
+    }
+}

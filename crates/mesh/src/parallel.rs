@@ -1,6 +1,6 @@
 //! Parallel loops over mesh elements whose result must not depend on the thread count.
 
-use crate::progress::{NoProgress, Progress, UnitTally};
+use crate::progress::{Cancelled, NoProgress, Progress, UnitTally};
 use rayon::prelude::*;
 use std::sync::Mutex;
 
@@ -70,15 +70,21 @@ pub fn collect_first_error_into<T: Send, E: Send>(
     f: impl Fn(usize) -> Result<T, E> + Sync,
     filler: impl Fn() -> T + Sync,
 ) -> Result<(), E> {
-    collect_first_error_into_with_progress(out, n, f, filler, &NoProgress)
+    // `NoProgress` never asks to stop, so only an item's error comes back.
+    match collect(out, n, f, filler, &NoProgress) {
+        Err(Stop::Failed(e)) => Err(e),
+        Ok(()) | Err(Stop::Cancelled) => Ok(()),
+    }
 }
 
 /// [`collect_first_error`], reporting each finished item as a unit of the current step of
-/// `progress` (in batches, [`UnitTally`]; the caller starts the step with its total `n`).
+/// `progress` (in batches, [`UnitTally`]; the caller starts the step with its total `n`), and
+/// skipping the items left once `progress` asks to stop.
 ///
 /// # Errors
-/// The error of the least failing index, as [`collect_first_error`].
-pub fn collect_first_error_with_progress<T: Send, E: Send>(
+/// [`Cancelled`] (as `E`) when `progress` asked to stop; otherwise the error of the least
+/// failing index, as [`collect_first_error`].
+pub fn collect_first_error_with_progress<T: Send, E: Send + From<Cancelled>>(
     n: usize,
     f: impl Fn(usize) -> Result<T, E> + Sync,
     filler: impl Fn() -> T + Sync,
@@ -89,18 +95,40 @@ pub fn collect_first_error_with_progress<T: Send, E: Send>(
     Ok(out)
 }
 
-/// [`collect_first_error_into`] with the progress reports of
+/// [`collect_first_error_into`] with the progress reports and the stop of
 /// [`collect_first_error_with_progress`].
 ///
 /// # Errors
-/// The error of the least failing index, as [`collect_first_error`].
-pub fn collect_first_error_into_with_progress<T: Send, E: Send>(
+/// As [`collect_first_error_with_progress`].
+pub fn collect_first_error_into_with_progress<T: Send, E: Send + From<Cancelled>>(
     out: &mut Vec<T>,
     n: usize,
     f: impl Fn(usize) -> Result<T, E> + Sync,
     filler: impl Fn() -> T + Sync,
     progress: &dyn Progress,
 ) -> Result<(), E> {
+    collect(out, n, f, filler, progress).map_err(|stop| match stop {
+        Stop::Failed(e) => e,
+        Stop::Cancelled => Cancelled.into(),
+    })
+}
+
+/// Why [`collect`] returned no complete result.
+enum Stop<E> {
+    /// An item failed (the least failing index's error).
+    Failed(E),
+    /// `progress` asked to stop; the items after that were skipped.
+    Cancelled,
+}
+
+/// The loop of the `collect_first_error` forms.
+fn collect<T: Send, E: Send>(
+    out: &mut Vec<T>,
+    n: usize,
+    f: impl Fn(usize) -> Result<T, E> + Sync,
+    filler: impl Fn() -> T + Sync,
+    progress: &dyn Progress,
+) -> Result<(), Stop<E>> {
     // The step was started by the caller; the tally only counts (its `start` is not used
     // so that a caller can name the step once for several loops).
     let tally = UnitTally::counting(progress, n);
@@ -109,6 +137,9 @@ pub fn collect_first_error_into_with_progress<T: Send, E: Send>(
         .into_par_iter()
         .with_max_len(GRAIN)
         .map(|i| {
+            if tally.stopped() {
+                return filler();
+            }
             let r = f(i);
             tally.unit_done(i);
             r.unwrap_or_else(|e| {
@@ -121,9 +152,9 @@ pub fn collect_first_error_into_with_progress<T: Send, E: Send>(
             })
         })
         .collect_into_vec(out);
-    tally.finish();
+    tally.finish().map_err(|Cancelled| Stop::Cancelled)?;
     match first.into_inner().unwrap_or_else(|p| p.into_inner()) {
-        Some((_, e)) => Err(e),
+        Some((_, e)) => Err(Stop::Failed(e)),
         None => Ok(()),
     }
 }
@@ -138,16 +169,66 @@ mod tests {
     fn the_least_failing_index_is_reported_for_every_thread_count() {
         let f =
             |i: usize| -> Result<usize, usize> { if i % 997 == 500 { Err(i) } else { Ok(i * 2) } };
+        in_pools(|_| {
+            assert_eq!(collect_first_error(10_000, f, || 0), Err(500));
+            let ok = collect_first_error(400, f, || 0).unwrap();
+            assert_eq!(ok, (0..400).map(|i| i * 2).collect::<Vec<_>>());
+        });
+    }
+
+    /// Runs `f(threads)` in pools of 1, 2 and 4 threads.
+    fn in_pools(f: impl Fn(usize) + Sync) {
         for threads in [1, 2, 4] {
             let pool = rayon::ThreadPoolBuilder::new()
                 .num_threads(threads)
                 .build()
                 .unwrap();
-            pool.install(|| {
-                assert_eq!(collect_first_error(10_000, f, || 0), Err(500));
-                let ok = collect_first_error(400, f, || 0).unwrap();
-                assert_eq!(ok, (0..400).map(|i| i * 2).collect::<Vec<_>>());
-            });
+            pool.install(|| f(threads));
         }
+    }
+
+    /// A loop whose sink asks to stop returns `Cancelled`, even where an item failed, and
+    /// skips most of its items: every thread polls at its next batch of
+    /// [`crate::progress::REPORT_EVERY`] units, and each piece of [`GRAIN`] items it has
+    /// started skips its rest.
+    #[test]
+    fn a_cancelled_loop_stops_and_says_so() {
+        use crate::progress::{Cancelled, ProgressCounter};
+        use std::sync::atomic::{AtomicUsize, Ordering};
+        #[derive(Debug, PartialEq)]
+        enum E {
+            Item(usize),
+            Stopped,
+        }
+        impl From<Cancelled> for E {
+            fn from(_: Cancelled) -> Self {
+                E::Stopped
+            }
+        }
+        in_pools(|threads| {
+            let counter = ProgressCounter::new();
+            let calls = AtomicUsize::new(0);
+            let r = collect_first_error_with_progress(
+                100_000,
+                |i| {
+                    calls.fetch_add(1, Ordering::Relaxed);
+                    if i == 5 {
+                        counter.cancel();
+                    }
+                    if i == 7 { Err(E::Item(i)) } else { Ok(i) }
+                },
+                || 0,
+                &counter,
+            );
+            assert_eq!(r, Err(E::Stopped), "{threads} threads");
+            let calls = calls.into_inner();
+            assert!(
+                calls < 20_000,
+                "{threads} threads: {calls} calls of 100 000"
+            );
+            // A sink that never cancels changes nothing.
+            let plain = collect_first_error_with_progress(1000, Ok::<_, E>, || 0, &NoProgress);
+            assert_eq!(plain, Ok((0..1000).collect::<Vec<_>>()));
+        });
     }
 }

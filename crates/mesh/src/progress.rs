@@ -8,22 +8,43 @@
 //! up to [`REPORT_EVERY`] units, so a sink's cost stays far below the work's. Reporting never
 //! changes a result: the same input gives the same bits with any sink.
 //!
+//! A sink can also stop the work ([`Progress::cancelled`], polled at every step and every
+//! batch of units): the computation then returns its crate's `Cancelled` error (built from
+//! [`Cancelled`]) instead of a result, and nothing it made is kept. This is the
+//! interrupter of OpenVDB's and CGAL's long algorithms, for a user interface's cancel button.
+//!
 //! ```
-//! use algesurf_mesh::progress::{Progress, ProgressCounter};
+//! use algesurf_mesh::progress::{Cancelled, Progress, ProgressCounter};
 //! use algesurf_mesh::parallel::collect_first_error_with_progress;
 //!
 //! let counter = ProgressCounter::new();
 //! counter.start("squares", 1000);
 //! let squares =
-//!     collect_first_error_with_progress(1000, |i| Ok::<_, ()>(i * i), || 0, &counter).unwrap();
+//!     collect_first_error_with_progress(1000, |i| Ok::<_, Cancelled>(i * i), || 0, &counter)?;
 //! assert_eq!(squares[999], 998_001);
 //! // A user interface thread would poll this while the loop runs.
 //! let now = counter.snapshot();
 //! assert_eq!((now.step.as_str(), now.done, now.total), ("squares", 1000, 1000));
+//!
+//! // A cancel button: the loop stops at the next batch and reports `Cancelled`.
+//! counter.start("cubes", 1000);
+//! let cubes = collect_first_error_with_progress(
+//!     1000,
+//!     |i| {
+//!         if i == 10 {
+//!             counter.cancel();
+//!         }
+//!         Ok::<_, Cancelled>(i * i * i)
+//!     },
+//!     || 0,
+//!     &counter,
+//! );
+//! assert_eq!(cubes, Err(Cancelled));
+//! # Ok::<(), Cancelled>(())
 //! ```
 
 use std::sync::Mutex;
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
 /// The most units a loop of the library counts before it reports them
 /// ([`Progress::advance`]): a bar lags at most this far behind, and a sink is called once
@@ -43,6 +64,32 @@ pub trait Progress: Sync {
 
     /// `units` more units of the current step are done. Called from any thread.
     fn advance(&self, units: u64);
+
+    /// Whether the work should stop. Polled from any thread at every step and every batch of
+    /// [`REPORT_EVERY`] units (and at every refinement round of a hull); once it answers
+    /// `true`, the computation returns its `Cancelled` error as soon as it next looks. The
+    /// default never stops.
+    fn cancelled(&self) -> bool {
+        false
+    }
+}
+
+/// The work was stopped by its [`Progress::cancelled`]; each crate's error type has a
+/// `Cancelled` variant made from this.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("cancelled")]
+pub struct Cancelled;
+
+/// `Err(Cancelled)` when `progress` asks to stop: for the points between steps.
+///
+/// # Errors
+/// [`Cancelled`] when [`Progress::cancelled`] is true.
+pub fn check_cancelled(progress: &dyn Progress) -> Result<(), Cancelled> {
+    if progress.cancelled() {
+        Err(Cancelled)
+    } else {
+        Ok(())
+    }
 }
 
 /// A [`Progress`] that ignores every report: what the forms without `_with_progress` use.
@@ -58,12 +105,14 @@ impl Progress for NoProgress {
 
 /// A [`Progress`] that keeps the current step and its count for another thread to read
 /// ([`ProgressCounter::snapshot`]): the command line's progress bar polls one ten times a
-/// second. `advance` is one relaxed atomic addition.
+/// second. `advance` is one relaxed atomic addition. Another thread can stop the work with
+/// [`ProgressCounter::cancel`].
 #[derive(Debug, Default)]
 pub struct ProgressCounter {
     /// The current step's name and total.
     step: Mutex<(String, u64)>,
     done: AtomicU64,
+    cancel: AtomicBool,
 }
 
 /// What a [`ProgressCounter`] held when it was read.
@@ -81,6 +130,11 @@ impl ProgressCounter {
     /// A counter before any step.
     pub fn new() -> Self {
         Self::default()
+    }
+
+    /// Asks the work reporting to this counter to stop ([`Progress::cancelled`]).
+    pub fn cancel(&self) {
+        self.cancel.store(true, Ordering::Relaxed);
     }
 
     /// The current step, its units done and its total.
@@ -111,6 +165,10 @@ impl Progress for ProgressCounter {
     fn advance(&self, units: u64) {
         self.done.fetch_add(units, Ordering::Relaxed);
     }
+
+    fn cancelled(&self) -> bool {
+        self.cancel.load(Ordering::Relaxed)
+    }
 }
 
 /// A [`Progress`] that keeps every step it was told of, with the units reported in it: for
@@ -131,6 +189,9 @@ impl Progress for ProgressCounter {
 #[derive(Debug, Default)]
 pub struct ProgressLog {
     steps: Mutex<Vec<LoggedStep>>,
+    /// Asks to stop once a step whose name starts with this begins.
+    cancel_at: Option<String>,
+    cancel: AtomicBool,
 }
 
 /// One step a [`ProgressLog`] was told of.
@@ -145,6 +206,24 @@ pub struct LoggedStep {
 }
 
 impl ProgressLog {
+    /// A log that asks to stop ([`Progress::cancelled`]) once a step whose name starts with
+    /// `prefix` begins: for tests of how a computation stops.
+    ///
+    /// ```
+    /// use algesurf_mesh::progress::{Progress, ProgressLog};
+    /// let log = ProgressLog::cancelling_at("hull: faces");
+    /// log.start("hull: edges", 10);
+    /// assert!(!log.cancelled());
+    /// log.start("hull: faces", 8);
+    /// assert!(log.cancelled());
+    /// ```
+    pub fn cancelling_at(prefix: &str) -> Self {
+        ProgressLog {
+            cancel_at: Some(prefix.to_string()),
+            ..Self::default()
+        }
+    }
+
     /// The steps so far, in order.
     pub fn steps(&self) -> Vec<LoggedStep> {
         self.steps.lock().unwrap_or_else(|p| p.into_inner()).clone()
@@ -153,6 +232,13 @@ impl ProgressLog {
 
 impl Progress for ProgressLog {
     fn start(&self, name: &str, total: u64) {
+        if self
+            .cancel_at
+            .as_deref()
+            .is_some_and(|prefix| name.starts_with(prefix))
+        {
+            self.cancel.store(true, Ordering::Relaxed);
+        }
         self.steps
             .lock()
             .unwrap_or_else(|p| p.into_inner())
@@ -173,30 +259,58 @@ impl Progress for ProgressLog {
             last.done += units;
         }
     }
+
+    fn cancelled(&self) -> bool {
+        self.cancel.load(Ordering::Relaxed)
+    }
 }
 
-/// Counts the units of a loop over `0..n` for `progress` in batches: call
-/// [`UnitTally::unit_done`] with each index as its unit finishes (in any order, from any
-/// thread) and [`UnitTally::finish`] after the loop. Every index `i` with
-/// `i % REPORT_EVERY == REPORT_EVERY − 1` reports a whole batch and `finish` the last,
-/// partial one, so the reports add up to exactly `n` once every index is done, with one
-/// sink call per [`REPORT_EVERY`] units and no shared state of its own.
-#[derive(Clone, Copy)]
+/// Counts the units of a loop over `0..n` for `progress` in batches, and stops it when
+/// `progress` asks: call [`UnitTally::unit_done`] with each index as its unit finishes (in
+/// any order, from any thread), skip the units left once [`UnitTally::stopped`] is true, and
+/// call [`UnitTally::finish`] after the loop. Every index `i` with
+/// `i % REPORT_EVERY == REPORT_EVERY − 1` reports a whole batch and polls
+/// [`Progress::cancelled`], and `finish` reports the last, partial batch, so the reports add
+/// up to exactly `n` once every index is done, with one sink call per [`REPORT_EVERY`] units.
+///
+/// ```
+/// use algesurf_mesh::progress::{Cancelled, Progress, ProgressCounter, UnitTally};
+/// let counter = ProgressCounter::new();
+/// let tally = UnitTally::start(&counter, "units", 1000);
+/// let mut work = 0;
+/// for i in 0..1000 {
+///     if tally.stopped() {
+///         continue; // the rest is skipped
+///     }
+///     work += 1;
+///     tally.unit_done(i);
+///     if i == 99 {
+///         counter.cancel(); // from a user interface, say
+///     }
+/// }
+/// assert_eq!(tally.finish(), Err(Cancelled));
+/// assert_eq!(work, 128); // up to the next batch's poll
+/// ```
 pub struct UnitTally<'a> {
     progress: &'a dyn Progress,
     n: usize,
+    stop: AtomicBool,
 }
 
 impl<'a> UnitTally<'a> {
     /// Starts the step `name` of `n` units on `progress`.
     pub fn start(progress: &'a dyn Progress, name: &str, n: usize) -> Self {
         progress.start(name, n as u64);
-        UnitTally { progress, n }
+        Self::counting(progress, n)
     }
 
     /// A tally of `n` units for the step `progress` is in (started by the caller).
     pub fn counting(progress: &'a dyn Progress, n: usize) -> Self {
-        UnitTally { progress, n }
+        UnitTally {
+            progress,
+            n,
+            stop: AtomicBool::new(progress.cancelled()),
+        }
     }
 
     /// Unit `i` of the loop is done.
@@ -204,15 +318,33 @@ impl<'a> UnitTally<'a> {
     pub fn unit_done(&self, i: usize) {
         if i % REPORT_EVERY == REPORT_EVERY - 1 {
             self.progress.advance(REPORT_EVERY as u64);
+            if self.progress.cancelled() {
+                self.stop.store(true, Ordering::Relaxed);
+            }
         }
     }
 
+    /// Whether the loop should skip its remaining units: `progress` asked to stop at a batch's
+    /// end (or before the loop).
+    #[inline]
+    pub fn stopped(&self) -> bool {
+        self.stop.load(Ordering::Relaxed)
+    }
+
     /// The loop is over: reports the units of the last, partial batch.
-    pub fn finish(self) {
+    ///
+    /// # Errors
+    /// [`Cancelled`] when the loop was stopped or `progress` asks to stop now: its results
+    /// are incomplete and must not be used.
+    pub fn finish(self) -> Result<(), Cancelled> {
+        if self.stop.into_inner() {
+            return Err(Cancelled);
+        }
         let rest = self.n % REPORT_EVERY;
         if rest > 0 {
             self.progress.advance(rest as u64);
         }
+        check_cancelled(self.progress)
     }
 }
 
@@ -240,7 +372,7 @@ mod tests {
                 .into_par_iter()
                 .rev()
                 .for_each(|i| tally.unit_done(i));
-            tally.finish();
+            tally.finish().unwrap();
             assert_eq!(calls.0.load(Ordering::Relaxed), n as u64, "n = {n}");
             let expected_calls = n.div_ceil(REPORT_EVERY) as u64;
             assert_eq!(calls.1.load(Ordering::Relaxed), expected_calls, "n = {n}");

@@ -125,6 +125,9 @@ pub(super) fn edge_increments(
         .par_iter()
         .enumerate()
         .map(|(e, he)| -> Result<Needs, ApatchError> {
+            if tally.stopped() {
+                return Ok(Vec::new());
+            }
             // Counted as it starts: the early returns need no count of their own.
             tally.unit_done(e);
             let Some(fl) = he.face_l else {
@@ -147,7 +150,7 @@ pub(super) fn edge_increments(
             Ok(out)
         })
         .collect();
-    tally.finish();
+    tally.finish().map_err(ApatchError::from)?;
     // The first error in edge order, whatever the thread count; with it, every unliftable
     // edge, so that one refinement pass can take them all.
     if let Some(first) = needs.iter().position(Result::is_err) {
