@@ -8,8 +8,6 @@
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
-use std::sync::{Arc, Mutex};
-use std::time::Duration;
 
 use algesurf_inspect::check::{ApatchView, CheckOptions, CheckReport, check_with_progress};
 
@@ -51,63 +49,6 @@ pub struct CheckArgs {
 
 type BoxError = Box<dyn std::error::Error>;
 
-/// A spinner on stderr, shown once the battery has run for a second, naming the stage.
-struct Spinner {
-    stage: Arc<Mutex<String>>,
-    done: std::sync::mpsc::Sender<()>,
-    thread: Option<std::thread::JoinHandle<()>>,
-}
-
-impl Spinner {
-    fn start() -> Spinner {
-        let stage = Arc::new(Mutex::new(String::new()));
-        let (done, rx) = std::sync::mpsc::channel::<()>();
-        let shown = Arc::clone(&stage);
-        let thread = std::thread::spawn(move || {
-            if rx.recv_timeout(Duration::from_secs(1))
-                != Err(std::sync::mpsc::RecvTimeoutError::Timeout)
-            {
-                return;
-            }
-            let bar = indicatif::ProgressBar::new_spinner();
-            bar.set_style(
-                indicatif::ProgressStyle::with_template("{spinner} checking: {msg} {elapsed}")
-                    .unwrap_or_else(|_| indicatif::ProgressStyle::default_spinner()),
-            );
-            loop {
-                let msg = shown.lock().map(|s| s.clone()).unwrap_or_default();
-                bar.set_message(msg);
-                bar.tick();
-                match rx.recv_timeout(Duration::from_millis(100)) {
-                    Err(std::sync::mpsc::RecvTimeoutError::Timeout) => {}
-                    _ => break,
-                }
-            }
-            bar.finish_and_clear();
-        });
-        Spinner {
-            stage,
-            done,
-            thread: Some(thread),
-        }
-    }
-
-    fn set(&self, name: &str) {
-        if let Ok(mut s) = self.stage.lock() {
-            name.clone_into(&mut s);
-        }
-    }
-}
-
-impl Drop for Spinner {
-    fn drop(&mut self) {
-        let _ = self.done.send(());
-        if let Some(t) = self.thread.take() {
-            let _ = t.join();
-        }
-    }
-}
-
 /// Builds the surface and runs the battery; prints the table and writes `--json`.
 ///
 /// Returns success when every property holds, [`EXIT_PROPERTY_FAILS`] when one fails.
@@ -137,15 +78,11 @@ pub fn run(args: &CheckArgs) -> Result<ExitCode, BoxError> {
         resolution: args.resolution as usize,
         ..CheckOptions::default()
     };
-    let report = {
-        let spinner = progress.then(Spinner::start);
-        check_with_progress(&view, &options, &mut |name| {
-            if let Some(s) = &spinner {
-                s.set(name);
-            }
-        })
-        .map_err(|e| format!("{source}: {e}"))?
-    };
+    // The battery's stages on the progress display, as `smooth` shows its own.
+    let (report, _) = crate::stage::stage("checking", progress, |p| {
+        check_with_progress(&view, &options, p)
+    });
+    let report = report.map_err(|e| format!("{source}: {e}"))?;
     let hull_faces = built.surface.hull().mesh().face_count();
     let text = format!(
         "{source}: {} faces in ({}), {hull_faces} hull faces, {} pieces; tessellation resolution {}\n{report}\n",

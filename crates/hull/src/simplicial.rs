@@ -129,12 +129,12 @@ impl SimplicialHull {
     }
 
     /// [`SimplicialHull::from_mesh`], reporting its steps to `progress`: the edges, the faces
-    /// and the edge tetrahedra (each with its count of elements), the overlap check, and every
-    /// refinement round (named with its number and the overlapping pairs it separates; no
+    /// and the edge tetrahedra (each with its count of elements), the overlap check (counted in
+    /// tetrahedra), and every refinement round (named with its number and the overlapping pairs it separates; no
     /// count, as a round's work is not known before it runs). The hull is the same with any
     /// `progress`. It stops with [`HullError::Cancelled`] when `progress` asks
-    /// ([`Progress::cancelled`]: polled per batch of elements, before and after the overlap
-    /// check and at every round).
+    /// ([`Progress::cancelled`]: polled per batch of elements, per leaf of the overlap
+    /// check's tree and at every round).
     ///
     /// ```
     /// use algesurf_hull::{HullOptions, SimplicialHull};
@@ -319,10 +319,7 @@ impl SimplicialHull {
                 .filter(|h| !rounds::unremovable(component, &zone, &state.face_map, h))
                 .collect()
         };
-        progress.start("hull: overlap check", 0);
-        check_cancelled(progress)?;
-        let (found, index) = hull.indexed_intersections();
-        check_cancelled(progress)?;
+        let (found, index) = hull.indexed_intersections(progress)?;
         let found = found.iter().map(|h| hull.overlap(h)).collect();
         let mut hits = removable(&state, found);
         if hits.is_empty() {

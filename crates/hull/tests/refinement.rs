@@ -450,8 +450,8 @@ fn refining_given_faces_keeps_the_input_and_the_face_map() {
     ));
 }
 
-/// The hull reports its steps in the order it takes them: edges, faces and edge tetrahedra
-/// (each counted to its element count), the overlap check, then one step per refinement round
+/// The hull reports its steps in the order it takes them: edges, faces, edge tetrahedra and
+/// the overlap check (each counted to its element count), then one step per refinement round
 /// named with its number and the pairs it separates; and a hull built with progress is the
 /// hull built without.
 #[test]
@@ -481,7 +481,22 @@ fn refinement_rounds_are_reported_as_progress() {
         ]
     );
     let input = mesh.topology();
-    let counts = [input.edge_count(), mesh.face_count(), input.edge_count()];
+    // The overlap check counts the first round's tetrahedra: those of the unrefined hull.
+    let unrefined = SimplicialHull::from_mesh(
+        &mesh,
+        &n,
+        &HullOptions {
+            check_intersections: false,
+            ..paper()
+        },
+    )
+    .unwrap();
+    let counts = [
+        input.edge_count(),
+        mesh.face_count(),
+        input.edge_count(),
+        unrefined.tetrahedra().len(),
+    ];
     for (step, count) in steps.iter().zip(counts) {
         assert_eq!(
             (step.total, step.done),

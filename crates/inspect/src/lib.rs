@@ -28,4 +28,14 @@ pub enum InspectError {
         /// What went wrong.
         message: String,
     },
+    /// The [`algesurf_mesh::progress::Progress`] given to
+    /// [`check::check_with_progress`] asked to stop.
+    #[error("cancelled")]
+    Cancelled,
+}
+
+impl From<algesurf_mesh::progress::Cancelled> for InspectError {
+    fn from(_: algesurf_mesh::progress::Cancelled) -> Self {
+        InspectError::Cancelled
+    }
 }

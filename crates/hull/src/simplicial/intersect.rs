@@ -9,6 +9,7 @@ use crate::overlap::{FacePlanes, common_diagonal, depth_until, tet_box};
 use crate::refine::key;
 use algesurf_bb::Tetrahedron;
 use algesurf_mesh::morton::MortonBvh;
+use algesurf_mesh::progress::{Cancelled, NoProgress, Progress};
 use glam::DVec3;
 use rayon::prelude::*;
 
@@ -90,15 +91,21 @@ impl SimplicialHull {
     /// over the tetrahedra's boxes; each candidate is decided by [`crate::overlap_depth`].
     /// Empty for a valid hull.
     pub fn intersections(&self) -> Vec<Intersection> {
-        self.check_every_pair().hits
+        // `NoProgress` never asks to stop.
+        self.check_every_pair(&NoProgress)
+            .map(|checked| checked.hits)
+            .unwrap_or_default()
     }
 
     /// [`SimplicialHull::intersections`], with the tree and the tetrahedra it was found with,
     /// for the refinement rounds to check their new tetrahedra against
     /// ([`TetIndex::overlaps_of`]).
-    pub(crate) fn indexed_intersections(&self) -> (Vec<Intersection>, TetIndex) {
-        let checked = self.check_every_pair();
-        (
+    pub(crate) fn indexed_intersections(
+        &self,
+        progress: &dyn Progress,
+    ) -> Result<(Vec<Intersection>, TetIndex), Cancelled> {
+        let checked = self.check_every_pair(progress)?;
+        Ok((
             checked.hits,
             TetIndex {
                 first: Indexed {
@@ -109,11 +116,12 @@ impl SimplicialHull {
                 },
                 later_tree: None,
             },
-        )
+        ))
     }
 
-    /// The work of [`SimplicialHull::intersections`], with what it was done on.
-    fn check_every_pair(&self) -> EveryPair {
+    /// The work of [`SimplicialHull::intersections`], with what it was done on; the step
+    /// "hull: overlap check" of `progress`, counted in tetrahedra.
+    fn check_every_pair(&self, progress: &dyn Progress) -> Result<EveryPair, Cancelled> {
         let tol = self.options.overlap_tolerance;
         // Each tetrahedron named by its element and its place there, in `tetrahedra()` order
         // (8 bytes each instead of the 112 of a listed tetrahedron: the list is 30 MB on the
@@ -122,6 +130,8 @@ impl SimplicialHull {
             .into_par_iter()
             .flat_map_iter(|k| (0..self.element_tet_count(k)).map(move |s| (k as u32, s as u8)))
             .collect();
+        // Started here: the tree and the tetrahedra's data below take a fifth of the step.
+        progress.start("hull: overlap check", ids.len() as u64);
         // One self-join of a tree over every box, in parallel, every pair tested once. The
         // vertices and face planes (computed once per tetrahedron: each takes part in ~40
         // candidate pairs on the bunny) are copied into the tree's Morton order, so that the
@@ -145,14 +155,18 @@ impl SimplicialHull {
             })
             .unzip();
         let planes: Vec<FacePlanes> = verts.par_iter().map(FacePlanes::of).collect();
-        let mut pairs: Vec<(u32, u32, f64)> = bvh.slot_pairs(|a, b| {
-            let (a, b) = if order[a] < order[b] { (a, b) } else { (b, a) };
-            // The pair's common box from the two boxes the tree holds: the same corners
-            // (min and max are exact) as from the eight vertices.
-            let d = common_diagonal(bvh.slot_box(a), bvh.slot_box(b));
-            let depth = depth_until(&verts[a], &planes[a], &verts[b], &planes[b], d, tol);
-            (depth > tol).then_some((order[a], order[b], depth))
-        });
+        let pairs = bvh.slot_pairs_with_progress(
+            |a, b| {
+                let (a, b) = if order[a] < order[b] { (a, b) } else { (b, a) };
+                // The pair's common box from the two boxes the tree holds: the same corners
+                // (min and max are exact) as from the eight vertices.
+                let d = common_diagonal(bvh.slot_box(a), bvh.slot_box(b));
+                let depth = depth_until(&verts[a], &planes[a], &verts[b], &planes[b], d, tol);
+                (depth > tol).then_some((order[a], order[b], depth))
+            },
+            progress,
+        );
+        let mut pairs: Vec<(u32, u32, f64)> = pairs?;
         // Sorting makes the list (and the refinement driven by it) independent of the thread
         // count.
         pairs.sort_unstable_by_key(|&(a, b, _)| (a, b));
@@ -164,13 +178,13 @@ impl SimplicialHull {
                 depth,
             })
             .collect();
-        EveryPair {
+        Ok(EveryPair {
             hits,
             tree: bvh,
             keys,
             verts,
             planes,
-        }
+        })
     }
 
     /// The round-independent name of element `k`'s tetrahedron on `side`.

@@ -520,7 +520,7 @@ mod tests {
         for (n, a, w) in [(2, 0.4, 5.0), (3, 0.2, 5.0), (5, 0.3, 5.0)] {
             let (mesh, normals) = wave(n, a, w);
             let hull = SimplicialHull::from_mesh(&mesh, &normals, &whole).unwrap();
-            let (found, index) = hull.indexed_intersections();
+            let (found, index) = hull.indexed_intersections(&NoProgress).unwrap();
             let mut overlaps: Vec<Overlap> = found.iter().map(|h| hull.overlap(h)).collect();
             assert!(!overlaps.is_empty(), "the test needs overlaps");
             let keys = hull.mesh.topology().edges().to_vec();

@@ -61,6 +61,7 @@ pub use topology::{TopologyMeasure, topology};
 
 use crate::InspectError;
 use algesurf_hull::Side;
+use algesurf_mesh::progress::{NoProgress, Progress, check_cancelled};
 use glam::DVec3;
 use std::fmt;
 
@@ -310,26 +311,35 @@ pub fn check<S: PatchSurface + ?Sized>(
     surface: &S,
     options: &CheckOptions,
 ) -> Result<CheckReport, InspectError> {
-    check_with_progress(surface, options, &mut |_| {})
+    check_with_progress(surface, options, &NoProgress)
 }
 
-/// [`check`], calling `progress` with the name of each stage as it starts.
+/// [`check`], naming each of its stages to `progress` as it starts ("tessellation",
+/// "interpolation", "C1 across facets", "normal agreement", "topology"; not counted) and
+/// stopping between them when `progress` asks ([`Progress::cancelled`]).
 ///
 /// # Errors
-/// As [`check`].
+/// As [`check`]; [`InspectError::Cancelled`] when `progress` asked to stop.
 pub fn check_with_progress<S: PatchSurface + ?Sized>(
     surface: &S,
     options: &CheckOptions,
-    progress: &mut dyn FnMut(&str),
+    progress: &dyn Progress,
 ) -> Result<CheckReport, InspectError> {
     if options.resolution == 0 || options.facet_level == 0 {
         return Err(InspectError::InvalidOption(
             "the resolution and the facet level must be at least 1".into(),
         ));
     }
-    progress("tessellation");
+    stage(progress, "tessellation")?;
     let t = surface.tessellate(options.resolution)?;
     measure_all(surface, &t, options.facet_level, progress)
+}
+
+/// Starts the battery's stage `name` on `progress`, unless it asks to stop.
+fn stage(progress: &dyn Progress, name: &str) -> Result<(), InspectError> {
+    check_cancelled(progress)?;
+    progress.start(name, 0);
+    Ok(())
 }
 
 /// [`check`] on a tessellation the caller already has (from
@@ -348,23 +358,24 @@ pub fn check_tessellation<S: PatchSurface + ?Sized>(
             "the facet level must be at least 1".into(),
         ));
     }
-    measure_all(surface, tessellation, facet_level, &mut |_| {})
+    measure_all(surface, tessellation, facet_level, &NoProgress)
 }
 
 fn measure_all<S: PatchSurface + ?Sized>(
     surface: &S,
     t: &Tessellated,
     facet_level: usize,
-    progress: &mut dyn FnMut(&str),
+    progress: &dyn Progress,
 ) -> Result<CheckReport, InspectError> {
-    progress("interpolation");
+    stage(progress, "interpolation")?;
     let interp = interpolation(surface);
-    progress("C1 across facets");
+    stage(progress, "C1 across facets")?;
     let c1 = continuity(surface, facet_level);
-    progress("normal agreement");
+    stage(progress, "normal agreement")?;
     let normals = normal_agreement(surface, t)?;
-    progress("topology");
+    stage(progress, "topology")?;
     let topo = topology(t, surface.input_topology());
+    check_cancelled(progress)?;
     let margins = surface.parameter_margins();
     Ok(CheckReport::new(
         surface, &interp, &c1, &normals, t, &topo, &margins,
