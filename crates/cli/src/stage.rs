@@ -1,5 +1,6 @@
-//! The `smooth` command's stages: each one timed, with its minor page faults, and a spinner
-//! on stderr when it runs longer than a second.
+//! The commands' stages: each one timed, with its minor page faults, and a progress display
+//! on stderr (the stage, its current step and that step's count) when it runs longer than a
+//! second.
 
 use algesurf_mesh::progress::{NoProgress, Progress, ProgressCounter, ProgressSnapshot};
 use std::sync::mpsc;
