@@ -14,12 +14,11 @@ mod rays;
 
 use crate::surface::FaceFunction;
 use crate::{ApatchError, ApatchSurface};
-use algesurf_mesh::progress::{Cancelled, NoProgress, Progress};
+use algesurf_mesh::progress::{Cancelled, NoProgress, Progress, UnitTally};
 use glam::DVec3;
 use numbering::Numbering;
 use rayon::prelude::*;
 use rays::{EdgeRays, FaceRays};
-use std::sync::atomic::{AtomicBool, Ordering};
 
 /// What a patch of the output is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -152,8 +151,8 @@ struct RayBlocks {
 
 impl RayBlocks {
     /// Evaluates the blocks in parallel; `fill(patch, out)` appends the patch's `per` rays.
-    /// Each finished block's patches are reported to `progress` as units; once it asks to
-    /// stop, the blocks not yet begun are skipped and the result is [`Cancelled`].
+    /// Each finished patch is reported to `progress` as a unit ([`UnitTally`]); once it asks
+    /// to stop, the blocks not yet begun are skipped and the result is [`Cancelled`].
     fn new(
         count: usize,
         per: usize,
@@ -161,17 +160,15 @@ impl RayBlocks {
         progress: &dyn Progress,
     ) -> Result<Self, Cancelled> {
         let size = block_size(count);
-        // Latched: a sink may answer `cancelled` differently later, and a skipped block must
-        // never be read.
-        let skipped = AtomicBool::new(false);
+        // Counted per patch; a block not begun once `progress` asks to stop is left empty, and
+        // the tally's latched stop keeps any of them from being read.
+        let tally = UnitTally::counting(progress, count);
         let (blocks, at_start) = patch_blocks(count)
             .into_par_iter()
             .map(|patches| {
-                if skipped.load(Ordering::Relaxed) || progress.cancelled() {
-                    skipped.store(true, Ordering::Relaxed);
+                if tally.stopped() {
                     return (Vec::new(), Vec::new());
                 }
-                let units = patches.len() as u64;
                 let mut out = Vec::with_capacity(patches.len() * per);
                 let mut at_start = Vec::with_capacity(patches.len() * per);
                 for p in patches {
@@ -179,15 +176,13 @@ impl RayBlocks {
                     fill(p, &mut out);
                     // Read while the patch's rays are in cache.
                     at_start.extend(out[before..].iter().map(|r| r.at_start));
+                    tally.unit_done(p);
                 }
                 debug_assert_eq!(out.len() % per.max(1), 0);
-                progress.advance(units);
                 (out, at_start)
             })
             .unzip();
-        if skipped.into_inner() {
-            return Err(Cancelled);
-        }
+        tally.finish()?;
         Ok(RayBlocks {
             blocks,
             at_start,

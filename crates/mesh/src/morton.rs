@@ -19,11 +19,10 @@
 //! assert_eq!(pairs, vec![(0, 1)]);
 //! ```
 
-use crate::progress::{Cancelled, NoProgress, Progress};
+use crate::progress::{Cancelled, NoProgress, Progress, UnitTally};
 use crate::self_join::{JoinTree, self_join_leaves};
 use glam::DVec3;
 use rayon::prelude::*;
-use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Boxes per leaf of [`MortonBvh::new`]: for faces, whose boxes overlap only their
 /// neighbours'. Trees over boxes that overlap many others (a hull's tetrahedra) join faster
@@ -247,8 +246,9 @@ impl MortonBvh {
     /// with the pairs across them, so the count tracks the work closely but not exactly.
     ///
     /// # Errors
-    /// [`Cancelled`] when `progress` asks to stop (polled at every leaf): the leaves not yet
-    /// joined are skipped and no pairs are returned.
+    /// [`Cancelled`] when `progress` asks to stop (polled every
+    /// [`crate::progress::REPORT_EVERY`] boxes, [`UnitTally`]): the leaves not yet joined are
+    /// skipped and no pairs are returned.
     pub fn slot_pairs_with_progress<T: Send>(
         &self,
         f: impl Fn(usize, usize) -> Option<T> + Sync,
@@ -257,17 +257,16 @@ impl MortonBvh {
         if self.nodes.is_empty() {
             return Ok(Vec::new());
         }
-        // Latched: a skipped leaf makes the result incomplete whatever the sink says later.
-        let stop = AtomicBool::new(false);
+        // Each box counted once, when its own leaf's pairs are done (a leaf meets itself
+        // once); the tally's latched stop skips every leaf pair after it.
+        let tally = UnitTally::counting(progress, self.sorted.len());
         // The pairs of two leaves' slots (of one leaf's, `a < b`), in `self_join`'s order,
         // with the boxes read from slices and the test inlined.
         let pairs = self_join_leaves(self, 0, |ra, rb, out| {
-            let same = ra == rb;
-            if stop.load(Ordering::Relaxed) || (same && progress.cancelled()) {
-                stop.store(true, Ordering::Relaxed);
+            if tally.stopped() {
                 return;
             }
-            let units = if same { ra.len() as u64 } else { 0 };
+            let same = ra == rb;
             for a in ra {
                 let ba = self.sorted[a];
                 // As `leaf_pair_rows` (whose iterator cost 6 M more instructions on spot).
@@ -279,14 +278,12 @@ impl MortonBvh {
                         out.push(x);
                     }
                 }
-            }
-            if units > 0 {
-                progress.advance(units);
+                if same {
+                    tally.unit_done(a);
+                }
             }
         });
-        if stop.into_inner() {
-            return Err(Cancelled);
-        }
+        tally.finish()?;
         Ok(pairs)
     }
 
