@@ -82,6 +82,7 @@ pub fn run(args: &CheckArgs) -> Result<ExitCode, BoxError> {
     let (report, _) = crate::stage::stage("checking", progress, |p| {
         check_with_progress(&view, &options, p)
     });
+    crate::interrupt::check()?;
     let report = report.map_err(|e| format!("{source}: {e}"))?;
     let hull_faces = built.surface.hull().mesh().face_count();
     let text = format!(

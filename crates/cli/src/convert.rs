@@ -76,6 +76,13 @@ pub fn run(args: &ConvertArgs) -> Result<(), Box<dyn std::error::Error>> {
         ascii: args.ascii,
         ..WriteOptions::default()
     };
-    algesurf_io::write(&args.output, &mesh, &options)?;
+    // Reading, repair and normals do not poll for Ctrl-C (each well under a second on the
+    // corpus); the write does, and removes its temporary file when stopped.
+    crate::interrupt::check()?;
+    let sink = crate::interrupt::Interruptible(&algesurf_mesh::progress::NoProgress);
+    if let Err(e) = algesurf_io::write_with_progress(&args.output, &mesh, &options, &sink) {
+        crate::interrupt::check()?;
+        return Err(e.into());
+    }
     Ok(())
 }

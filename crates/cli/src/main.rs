@@ -10,6 +10,7 @@ mod deviation;
 mod grid;
 mod hints;
 mod info;
+mod interrupt;
 mod memory;
 mod render;
 mod smooth;
@@ -110,6 +111,7 @@ pub(crate) fn read_mesh(
 
 fn main() -> ExitCode {
     allocator::keep_freed_pages();
+    interrupt::install();
     let cli = Cli::parse();
     let result = match &cli.command {
         Command::Info(a) => info::run(a).map(|()| ExitCode::SUCCESS),
@@ -121,6 +123,12 @@ fn main() -> ExitCode {
     match result {
         Ok(code) => code,
         Err(e) => {
+            // Stopped by Ctrl-C or SIGTERM (`interrupt`): said as such, with the shell's
+            // status.
+            if let Some(i) = e.downcast_ref::<interrupt::Interrupted>() {
+                eprintln!("algesurf: {i}");
+                return ExitCode::from(i.exit_status());
+            }
             eprintln!("algesurf: error: {e}");
             ExitCode::FAILURE
         }

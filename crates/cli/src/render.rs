@@ -201,6 +201,7 @@ pub fn run(args: &RenderArgs) -> Result<(), BoxError> {
         let (tess, _) = crate::stage::stage("tessellating", progress, |p| {
             s.surface.tessellate_with_progress(n, m, p)
         });
+        crate::interrupt::check()?;
         let mut tess =
             tess.map_err(|e| format!("{name}: cannot tessellate at resolution {n} × {m}: {e}"))?;
         // In the input's coordinates, which an explicit camera (--eye, --target) is given in.
@@ -262,6 +263,9 @@ pub fn run(args: &RenderArgs) -> Result<(), BoxError> {
         ..RenderOptions::default()
     };
     let image = render(&mesh, &options)?;
+    // The renderer does not poll for Ctrl-C (a second or two at the largest sizes): the
+    // image is not written when one came while it ran.
+    crate::interrupt::check()?;
     image.write_png(&args.output)?;
     let mut line = format!(
         "{source} → {} ({}x{}, {} triangles, mode {:?})",

@@ -430,11 +430,13 @@ pub(crate) fn build(
         Some(path) => {
             let (mesh, dt, faults) = measured("reading", progress, |_| crate::read_mesh(path));
             (t.read, t.faults.read) = (dt, faults);
+            crate::interrupt::check()?;
             let mesh = mesh?;
             let (repaired, dt, faults) = measured("repairing", progress, |_| {
                 repair(&mesh, &RepairOptions::default())
             });
             (t.repair, t.faults.repair) = (dt, faults);
+            crate::interrupt::check()?;
             let repaired =
                 repaired.map_err(|e| format!("{}: repair failed: {e}", path.display()))?;
             let r = &repaired.report;
@@ -491,6 +493,7 @@ pub(crate) fn build(
         vertex_normals(&tri, args.normals.method())
     });
     (t.normals, t.faults.normals) = (dt, faults);
+    crate::interrupt::check()?;
     let normals = normals.map_err(|e| {
         let hint = if args.normals == SmoothNormals::File {
             " (the file has no normals: use --normals loop)"
@@ -524,6 +527,8 @@ pub(crate) fn build(
         ApatchSurface::with_progress(&tri, &normals, &options, p)
     });
     (t.construction, t.faults.construction) = (dt, faults);
+    // Before the error is read: a `Cancelled` one is the signal's doing.
+    crate::interrupt::check()?;
     let surface = surface.map_err(|e| match e {
         ApatchError::Hull(e) => {
             let hint = match e {
@@ -634,6 +639,7 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
         surface.tessellate_with_progress(n, m, p)
     });
     (t.tessellation, t.faults.tessellation) = (dt, faults);
+    crate::interrupt::check()?;
     let mut tess =
         tess.map_err(|e| format!("{source}: cannot tessellate at resolution {n} × {m}: {e}"))?;
     // The output, and the deviation measured on it, in the input's coordinates.
@@ -664,8 +670,8 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
         std::thread::scope(|scope| {
             // Each part timed on its own (no spinner: the pair has one).
             let writer = scope.spawn(|| {
-                stage("writing", false, |_| {
-                    algesurf_io::write(&output, &out_mesh, &write_options)
+                stage("writing", false, |p| {
+                    algesurf_io::write_with_progress(&output, &out_mesh, &write_options, p)
                 })
             });
             let checked = stage("checking", false, |_| {
@@ -689,6 +695,11 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
     let (written, write_time) = written.map_err(|_| "the thread writing the output panicked")?;
     (t.check, t.write, t.check_and_write) = (check_time, write_time, dt);
     t.faults.check_and_write = faults;
+    // A write that Ctrl-C stopped has removed its temporary file; one that finished stands,
+    // and the command goes on to its report and summary.
+    if written.is_err() {
+        crate::interrupt::check()?;
+    }
     written?;
     let total = total_start.elapsed().as_secs_f64();
     let peak = crate::memory::peak_resident_bytes();

@@ -1,7 +1,8 @@
-//! The commands' stages: each one timed, with its minor page faults, and a progress display
-//! on stderr (the stage, its current step and that step's count) when it runs longer than a
-//! second.
+//! The commands' stages: each one timed, with its minor page faults, a progress display on
+//! stderr (the stage, its current step and that step's count) when it runs longer than a
+//! second, and a sink that Ctrl-C cancels ([`crate::interrupt`]).
 
+use crate::interrupt::Interruptible;
 use algesurf_mesh::progress::{NoProgress, Progress, ProgressCounter, ProgressSnapshot};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
@@ -57,11 +58,13 @@ const REDRAW: Duration = Duration::from_millis(100);
 
 /// Runs `f`, timing it; with `progress`, shows on stderr, once the stage has run for a
 /// second, a spinner named `name`, or the step `f` reports to the [`Progress`] it is given
-/// with a bar where the step has a count ([`bar_text`]).
+/// with a bar where the step has a count ([`bar_text`]). The sink `f` is given is cancelled
+/// by Ctrl-C ([`Interruptible`]), shown or not; the caller follows the stage with
+/// [`crate::interrupt::check`].
 pub(crate) fn stage<T>(name: &str, progress: bool, f: impl FnOnce(&dyn Progress) -> T) -> (T, f64) {
     let start = Instant::now();
     if !progress {
-        let r = f(&NoProgress);
+        let r = f(&Interruptible(&NoProgress));
         return (r, start.elapsed().as_secs_f64());
     }
     let counter = ProgressCounter::new();
@@ -119,7 +122,7 @@ pub(crate) fn stage<T>(name: &str, progress: bool, f: impl FnOnce(&dyn Progress)
                 bar.finish_and_clear();
             }
         });
-        let r = f(counter);
+        let r = f(&Interruptible(counter));
         drop(tx);
         r
     });

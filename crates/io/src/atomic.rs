@@ -4,6 +4,8 @@ use std::io::Write;
 use std::path::Path;
 use std::sync::atomic::{AtomicU64, Ordering};
 
+use algesurf_mesh::progress::{Cancelled, Progress};
+
 use crate::IoError;
 
 static COUNTER: AtomicU64 = AtomicU64::new(0);
@@ -88,4 +90,42 @@ pub(crate) fn write_atomic_with(
         let _ = std::fs::remove_file(&tmp);
     }
     result
+}
+
+/// The largest piece a cancellable write hands to the file at once ([`Watched`]): a megabyte
+/// takes a few milliseconds to copy into the page cache, so a stop is answered at once.
+pub(crate) const PIECE: usize = 1 << 20;
+
+/// A writer that reports the bytes it passes on to a [`Progress`] sink and refuses to write
+/// once the sink is [cancelled](Progress::cancelled), so that a stopped write ends at its
+/// next piece: it passes on at most [`PIECE`] bytes per `write` (the streamed writers hand
+/// over blocks of [`crate::blocks::BLOCK`] elements, under a megabyte; a buffer made in
+/// memory is cut into pieces).
+pub(crate) struct Watched<'a> {
+    inner: &'a mut dyn Write,
+    progress: &'a dyn Progress,
+}
+
+impl<'a> Watched<'a> {
+    pub(crate) fn new(inner: &'a mut dyn Write, progress: &'a dyn Progress) -> Self {
+        Watched { inner, progress }
+    }
+}
+
+impl Write for Watched<'_> {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        if self.progress.cancelled() {
+            // Not `ErrorKind::Interrupted`: `write_all` retries that one.
+            return Err(std::io::Error::other(Cancelled));
+        }
+        // At most a piece at a time, so that `write_all` of a large buffer (a glTF's JSON
+        // with its data URI, an OBJ built in memory) comes back here between pieces.
+        let n = self.inner.write(&buf[..buf.len().min(PIECE)])?;
+        self.progress.advance(n as u64);
+        Ok(n)
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.inner.flush()
+    }
 }

@@ -83,6 +83,14 @@ pub enum IoError {
         /// What is wrong with the mesh.
         what: String,
     },
+    /// A write was stopped by its [`Progress`](algesurf_mesh::progress::Progress) sink
+    /// ([`write_with_progress`](crate::write_with_progress)); the temporary file is removed
+    /// and the target left as it was.
+    #[error("{}: writing cancelled (the file was left as it was)", path.display())]
+    Cancelled {
+        /// The target file.
+        path: PathBuf,
+    },
 }
 
 impl IoError {
@@ -93,7 +101,8 @@ impl IoError {
             | IoError::UnknownFormat { path }
             | IoError::Parse { path, .. }
             | IoError::Unsupported { path, .. }
-            | IoError::InvalidMesh { path, .. } => path,
+            | IoError::InvalidMesh { path, .. }
+            | IoError::Cancelled { path } => path,
         }
     }
 }

@@ -54,9 +54,11 @@ mod off;
 mod ply;
 mod stl;
 
+use std::io::Write;
 use std::path::Path;
 
 pub use algesurf_mesh::PolygonMesh;
+use algesurf_mesh::progress::{NoProgress, Progress, check_cancelled};
 pub use atomic::{probe_writable, write_atomic};
 pub use error::{IoError, Location};
 pub use format::Format;
@@ -182,19 +184,105 @@ pub fn write_as(
     format: Format,
     options: &WriteOptions,
 ) -> Result<(), IoError> {
+    write_as_with_progress(path, mesh, format, options, &NoProgress)
+}
+
+/// [`write()`], reporting the bytes written to `progress` (one step, `"writing"`, with no
+/// total: the size is known only once the file is encoded) and stopping when it is
+/// [cancelled](Progress::cancelled): before the temporary file is made, or between the
+/// pieces it is written in (a megabyte or less each). A cancelled write removes its
+/// temporary file and leaves `path` as it was: absent, or the old file.
+///
+/// ```
+/// use algesurf_io::{write_with_progress, IoError, WriteOptions};
+/// use algesurf_mesh::progress::ProgressCounter;
+/// use algesurf_mesh::PolygonMesh;
+/// use glam::DVec3;
+///
+/// let dir = std::env::temp_dir().join(format!("algesurf-io-cancel-{}", std::process::id()));
+/// std::fs::create_dir_all(&dir)?;
+/// let mesh = PolygonMesh::from_triangles(vec![DVec3::ZERO, DVec3::X, DVec3::Y], &[[0, 1, 2]]);
+/// let path = dir.join("triangle.ply");
+/// let progress = ProgressCounter::new();
+/// write_with_progress(&path, &mesh, &WriteOptions::default(), &progress)?;
+/// assert!(progress.snapshot().done > 0); // bytes written
+/// let before = std::fs::read(&path)?;
+///
+/// progress.cancel(); // Ctrl-C, say
+/// let e = write_with_progress(&path, &mesh, &WriteOptions::default(), &progress);
+/// assert!(matches!(e, Err(IoError::Cancelled { .. })));
+/// assert_eq!(std::fs::read(&path)?, before); // the old file, untouched
+/// # std::fs::remove_dir_all(&dir)?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+///
+/// # Errors
+/// As [`write()`], and [`IoError::Cancelled`] when `progress` stopped it.
+pub fn write_with_progress(
+    path: impl AsRef<Path>,
+    mesh: &PolygonMesh,
+    options: &WriteOptions,
+    progress: &dyn Progress,
+) -> Result<(), IoError> {
     let path = path.as_ref();
+    let format = Format::from_path(path).ok_or_else(|| IoError::UnknownFormat {
+        path: path.to_path_buf(),
+    })?;
+    write_as_with_progress(path, mesh, format, options, progress)
+}
+
+/// [`write_as`] with the progress reports and cancellation of [`write_with_progress`].
+///
+/// # Errors
+/// As [`write_as`], and [`IoError::Cancelled`] when `progress` stopped it.
+pub fn write_as_with_progress(
+    path: impl AsRef<Path>,
+    mesh: &PolygonMesh,
+    format: Format,
+    options: &WriteOptions,
+    progress: &dyn Progress,
+) -> Result<(), IoError> {
+    let path = path.as_ref();
+    let cancelled = || IoError::Cancelled {
+        path: path.to_path_buf(),
+    };
+    check_cancelled(progress).map_err(|_| cancelled())?;
+    progress.start("writing", 0);
     let ctx = Ctx { path, format };
-    // PLY and glTF are streamed to the file: a tessellation's PLY or GLB is tens of MB.
-    let stream = match format {
-        Format::Ply => ply::write_to,
-        Format::Gltf | Format::Glb => gltf_write::write_to,
+    let result = match format {
+        // PLY and glTF are streamed to the file: a tessellation's PLY or GLB is tens of MB.
+        Format::Ply | Format::Gltf | Format::Glb => {
+            let stream = if format == Format::Ply {
+                ply::write_to
+            } else {
+                gltf_write::write_to
+            };
+            check_writable(mesh, ctx)?;
+            atomic::write_atomic_with(path, |file| {
+                stream(
+                    mesh,
+                    options,
+                    ctx,
+                    &mut atomic::Watched::new(file, progress),
+                )
+            })
+        }
         Format::Obj | Format::Stl | Format::Off => {
             let bytes = write_impl(mesh, format, options, path)?;
-            return atomic::write_atomic(path, &bytes);
+            check_cancelled(progress).map_err(|_| cancelled())?;
+            atomic::write_atomic_with(path, |file| {
+                atomic::Watched::new(file, progress)
+                    .write_all(&bytes)
+                    .map_err(|e| ctx.io(e))
+            })
         }
     };
-    check_writable(mesh, ctx)?;
-    atomic::write_atomic_with(path, |file| stream(mesh, options, ctx, file))
+    // Whatever failed once the sink said stop (the watched writer's refusal, most likely)
+    // is the cancellation: that is what the caller asked for and must be told.
+    match result {
+        Err(_) if progress.cancelled() => Err(cancelled()),
+        r => r,
+    }
 }
 
 /// Encodes a mesh in memory in the given format.

@@ -1,4 +1,6 @@
 //! Helpers shared by the end-to-end tests of the `algesurf` binary.
+// Each test binary compiles this module and uses only some of it.
+#![allow(dead_code)]
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};

@@ -1,0 +1,133 @@
+//! Ctrl-C (SIGINT) and SIGTERM stop `algesurf smooth` cleanly: exit status 128 + the signal,
+//! a message saying so, the user's existing output file as it was, and no temporary file
+//! left beside it. Linux only: the tests wait for the handler through `/proc/PID/status`.
+#![cfg(target_os = "linux")]
+
+mod common;
+
+use std::path::Path;
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+use common::TempDir;
+
+use algesurf_io::{Format, WriteOptions};
+use algesurf_mesh::{PolygonMesh, shapes};
+
+/// Starts `algesurf smooth INPUT -o out.ply` in `dir`, its output captured.
+fn spawn_smooth(dir: &Path, input: &str, extra: &[&str]) -> Child {
+    Command::new(env!("CARGO_BIN_EXE_algesurf"))
+        .current_dir(dir)
+        .args(["smooth", input, "-o", "out.ply"])
+        .args(extra)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("start algesurf")
+}
+
+/// Waits until `pid` catches `signal` (its bit in `SigCgt` of `/proc/PID/status`): the
+/// handler is installed first thing in `main`, so this is microseconds after the start, but a
+/// signal sent before it would end the process by the default action and prove nothing.
+fn wait_for_handler(pid: u32, signal: u32) {
+    let start = Instant::now();
+    loop {
+        let status = std::fs::read_to_string(format!("/proc/{pid}/status")).unwrap_or_default();
+        let caught = status
+            .lines()
+            .find_map(|l| l.strip_prefix("SigCgt:"))
+            .and_then(|m| u64::from_str_radix(m.trim(), 16).ok())
+            .is_some_and(|mask| mask & (1 << (signal - 1)) != 0);
+        if caught {
+            return;
+        }
+        assert!(
+            start.elapsed() < Duration::from_secs(30),
+            "the process never installed its handler for signal {signal}"
+        );
+        std::thread::sleep(Duration::from_millis(5));
+    }
+}
+
+fn send(pid: u32, signal: &str) {
+    let ok = Command::new("kill")
+        .args(["-s", signal, &pid.to_string()])
+        .status()
+        .expect("run kill")
+        .success();
+    assert!(ok, "kill -s {signal} {pid}");
+}
+
+/// The files in `dir` whose names end in `.tmp` (a write's temporary file).
+fn temporaries(dir: &Path) -> Vec<String> {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".tmp"))
+        .collect()
+}
+
+fn obj_bytes(mesh: &PolygonMesh) -> Vec<u8> {
+    algesurf_io::write_bytes(mesh, Format::Obj, &WriteOptions::default()).unwrap()
+}
+
+/// The signal comes while the command waits for its input (a named pipe that nothing has
+/// written yet), so the order is certain: the command reads the mesh, sees the signal after
+/// that stage and stops before building anything.
+#[test]
+fn a_signal_while_reading_stops_smooth_with_128_plus_the_signal() {
+    for (signal, number, status, said) in [
+        ("INT", 2, 130, "interrupted by Ctrl-C (SIGINT)"),
+        ("TERM", 15, 143, "interrupted by SIGTERM"),
+    ] {
+        let dir = TempDir::new("interrupt", signal);
+        let fifo = dir.path().join("in.obj");
+        let made = Command::new("mkfifo").arg(&fifo).status().expect("mkfifo");
+        assert!(made.success());
+        std::fs::write(dir.path().join("out.ply"), b"the user's file").unwrap();
+        let child = spawn_smooth(dir.path(), "in.obj", &[]);
+        wait_for_handler(child.id(), number);
+        send(child.id(), signal);
+        // Only now does the input arrive; the command is blocked opening the pipe until then.
+        std::fs::write(&fifo, obj_bytes(&shapes::icosphere(1).to_polygon_mesh())).unwrap();
+        let out = child.wait_with_output().unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(status), "{signal}: {stderr}");
+        assert!(stderr.contains(said), "{signal}: {stderr}");
+        assert!(stderr.contains("no output was written"), "{stderr}");
+        assert_eq!(
+            std::fs::read(dir.path().join("out.ply")).unwrap(),
+            b"the user's file"
+        );
+        assert!(temporaries(dir.path()).is_empty());
+    }
+}
+
+/// Ctrl-C in the middle of a run of a few seconds (a 5120-face icosphere tessellated into
+/// millions of triangles): whichever stage it lands in (the construction and tessellation
+/// stop at their next batch of faces or patches, the write at its next megabyte), the
+/// command exits with 130 and leaves the user's file as it was, with no temporary file.
+#[test]
+fn ctrl_c_during_a_run_stops_it_and_keeps_the_users_file() {
+    let dir = TempDir::new("interrupt", "midway");
+    std::fs::write(
+        dir.path().join("in.obj"),
+        obj_bytes(&shapes::icosphere(4).to_polygon_mesh()),
+    )
+    .unwrap();
+    std::fs::write(dir.path().join("out.ply"), b"the user's file").unwrap();
+    let child = spawn_smooth(dir.path(), "in.obj", &["--resolution", "24"]);
+    wait_for_handler(child.id(), 2);
+    std::thread::sleep(Duration::from_millis(300));
+    send(child.id(), "INT");
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(130), "{stderr}");
+    assert!(stderr.contains("interrupted by Ctrl-C"), "{stderr}");
+    assert_eq!(
+        std::fs::read(dir.path().join("out.ply")).unwrap(),
+        b"the user's file"
+    );
+    assert!(temporaries(dir.path()).is_empty());
+}
