@@ -77,8 +77,8 @@ pub fn run(args: &ConvertArgs) -> Result<(), Box<dyn std::error::Error>> {
         ..WriteOptions::default()
     };
     // Reading, repair and normals do not poll for Ctrl-C (each well under a second on the
-    // corpus); the write does, and removes its temporary file when stopped.
-    crate::interrupt::check()?;
+    // corpus); the write does (first thing, so a signal that came before writes nothing),
+    // and removes its temporary file when stopped.
     let sink = crate::interrupt::Interruptible(&algesurf_mesh::progress::NoProgress);
     if let Err(e) = algesurf_io::write_with_progress(&args.output, &mesh, &options, &sink) {
         crate::interrupt::check()?;

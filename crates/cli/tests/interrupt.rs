@@ -14,12 +14,11 @@ use common::TempDir;
 use algesurf_io::{Format, WriteOptions};
 use algesurf_mesh::{PolygonMesh, shapes};
 
-/// Starts `algesurf smooth INPUT -o out.ply` in `dir`, its output captured.
-fn spawn_smooth(dir: &Path, input: &str, extra: &[&str]) -> Child {
+/// Starts `algesurf ARGS` in `dir`, its output captured.
+fn spawn(dir: &Path, args: &[&str]) -> Child {
     Command::new(env!("CARGO_BIN_EXE_algesurf"))
         .current_dir(dir)
-        .args(["smooth", input, "-o", "out.ply"])
-        .args(extra)
+        .args(args)
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
@@ -74,27 +73,39 @@ fn obj_bytes(mesh: &PolygonMesh) -> Vec<u8> {
 
 /// The signal comes while the command waits for its input (a named pipe that nothing has
 /// written yet), so the order is certain: the command reads the mesh, sees the signal after
-/// that stage and stops before building anything.
+/// that stage and stops before building or writing anything. `smooth` and `convert`, with
+/// SIGINT and SIGTERM.
 #[test]
-fn a_signal_while_reading_stops_smooth_with_128_plus_the_signal() {
-    for (signal, number, status, said) in [
-        ("INT", 2, 130, "interrupted by Ctrl-C (SIGINT)"),
-        ("TERM", 15, 143, "interrupted by SIGTERM"),
-    ] {
-        let dir = TempDir::new("interrupt", signal);
+fn a_signal_while_reading_stops_the_command_with_128_plus_the_signal() {
+    let commands: [&[&str]; 2] = [
+        &["smooth", "in.obj", "-o", "out.ply"],
+        &["convert", "in.obj", "out.ply", "--repair"],
+    ];
+    for (args, (signal, number, status, said)) in commands.into_iter().flat_map(|c| {
+        [
+            ("INT", 2, 130, "interrupted by Ctrl-C (SIGINT)"),
+            ("TERM", 15, 143, "interrupted by SIGTERM"),
+        ]
+        .map(|s| (c, s))
+    }) {
+        let dir = TempDir::new("interrupt", &format!("{}-{signal}", args[0]));
         let fifo = dir.path().join("in.obj");
         let made = Command::new("mkfifo").arg(&fifo).status().expect("mkfifo");
         assert!(made.success());
         std::fs::write(dir.path().join("out.ply"), b"the user's file").unwrap();
-        let child = spawn_smooth(dir.path(), "in.obj", &[]);
+        let child = spawn(dir.path(), args);
         wait_for_handler(child.id(), number);
         send(child.id(), signal);
         // Only now does the input arrive; the command is blocked opening the pipe until then.
         std::fs::write(&fifo, obj_bytes(&shapes::icosphere(1).to_polygon_mesh())).unwrap();
         let out = child.wait_with_output().unwrap();
         let stderr = String::from_utf8_lossy(&out.stderr);
-        assert_eq!(out.status.code(), Some(status), "{signal}: {stderr}");
-        assert!(stderr.contains(said), "{signal}: {stderr}");
+        assert_eq!(
+            out.status.code(),
+            Some(status),
+            "{args:?}, {signal}: {stderr}"
+        );
+        assert!(stderr.contains(said), "{args:?}, {signal}: {stderr}");
         assert!(stderr.contains("no output was written"), "{stderr}");
         assert_eq!(
             std::fs::read(dir.path().join("out.ply")).unwrap(),
@@ -117,7 +128,10 @@ fn ctrl_c_during_a_run_stops_it_and_keeps_the_users_file() {
     )
     .unwrap();
     std::fs::write(dir.path().join("out.ply"), b"the user's file").unwrap();
-    let child = spawn_smooth(dir.path(), "in.obj", &["--resolution", "24"]);
+    let child = spawn(
+        dir.path(),
+        &["smooth", "in.obj", "-o", "out.ply", "--resolution", "24"],
+    );
     wait_for_handler(child.id(), 2);
     std::thread::sleep(Duration::from_millis(300));
     send(child.id(), "INT");
