@@ -31,7 +31,7 @@ input → closed 2-manifold output with no duplicate positions and the input's E
 characteristic; every free parameter strictly beyond its single-sheet bound.
 
 Exit status: 0 every property holds, 2 some property fails (the table says which and where), \
-1 an error (bad input, a surface that cannot be built).")]
+1 an error (bad input, a surface that cannot be built), 130 or 143 stopped by Ctrl-C or SIGTERM.")]
 pub struct CheckArgs {
     /// Input mesh (OBJ, PLY, STL, OFF, glTF or GLB). Omit to check the built-in icosahedron.
     pub input: Option<PathBuf>,
@@ -92,13 +92,7 @@ pub fn run(args: &CheckArgs) -> Result<ExitCode, BoxError> {
         view.pieces().len(),
         options.resolution,
     );
-    {
-        use std::io::Write;
-        match std::io::stdout().lock().write_all(text.as_bytes()) {
-            Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => return Err(e.into()),
-            _ => {}
-        }
-    }
+    crate::print_stdout(&text)?;
     if let Some(path) = &args.json {
         let mut json = report.to_json();
         json["input"] = serde_json::json!(source);
@@ -121,10 +115,10 @@ fn exit_status(report: &CheckReport, source: &str) -> u8 {
         return 0;
     }
     let failed: Vec<&str> = report.failures().map(|r| r.property).collect();
-    eprintln!(
+    crate::print_stderr(format_args!(
         "algesurf: check failed: {source}: {} (see the table)",
         failed.join(", ")
-    );
+    ));
     EXIT_PROPERTY_FAILS
 }
 

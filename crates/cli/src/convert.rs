@@ -48,7 +48,14 @@ pub fn run(args: &ConvertArgs) -> Result<(), Box<dyn std::error::Error>> {
     let mut mesh = crate::read_mesh(&args.input)?;
     if args.repair {
         let repaired = repair(&mesh, &RepairOptions::default())?;
-        eprint!("{}: {}", args.input.display(), repaired.report);
+        // Not `eprint!`, which panics when stderr is a closed pipe (see `print_stderr`).
+        use std::io::Write;
+        let _ = write!(
+            std::io::stderr().lock(),
+            "{}: {}",
+            args.input.display(),
+            repaired.report
+        );
         mesh = repaired.mesh;
     }
     if let Some(method) = args.normals {

@@ -31,12 +31,7 @@ pub fn run(args: &InfoArgs) -> Result<(), Box<dyn std::error::Error>> {
     } else {
         to_text(&args.input, &mesh, &report, &repaired.report, &after)
     };
-    // A closed pipe (`algesurf info big.ply | head`) is not an error.
-    use std::io::Write;
-    match std::io::stdout().lock().write_all(text.as_bytes()) {
-        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(e.into()),
-        _ => Ok(()),
-    }
+    Ok(crate::print_stdout(&text)?)
 }
 
 /// At most this many components and findings of each kind are listed in the text report

@@ -67,7 +67,15 @@ mod allocator {
 
 /// Smooth piecewise-polynomial surfaces in Bernstein–Bézier form.
 #[derive(Parser, Debug)]
-#[command(name = "algesurf", version, about, long_about = None, arg_required_else_help = true)]
+#[command(
+    name = "algesurf",
+    version,
+    about,
+    long_about = None,
+    arg_required_else_help = true,
+    after_help = "Ctrl-C stops any command cleanly (exit status 130; 143 for SIGTERM): an output \
+file is written whole or not at all, and an existing one is left as it was."
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -91,6 +99,28 @@ enum Command {
     /// (interpolation, C1, normal agreement, simple roots, watertightness, parameter margins);
     /// exit status 2 when one fails.
     Check(check::CheckArgs),
+}
+
+/// Writes a command's report to stdout. A closed pipe (`algesurf info big.ply | head`) is not
+/// an error: the reader has what it wanted (Rust ignores `SIGPIPE`, so the write fails with
+/// `BrokenPipe` instead of ending the process, and `println!` would panic on it).
+///
+/// # Errors
+/// Any other failure to write.
+pub(crate) fn print_stdout(text: &str) -> std::io::Result<()> {
+    use std::io::Write;
+    match std::io::stdout().lock().write_all(text.as_bytes()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(e),
+        _ => Ok(()),
+    }
+}
+
+/// Writes a message line to stderr, ignoring a failure: a warning or an error message must not
+/// become a panic because stderr is a closed pipe (`algesurf smooth x.obj 2>&1 | head -1`),
+/// which `eprintln!` would.
+pub(crate) fn print_stderr(line: std::fmt::Arguments<'_>) {
+    use std::io::Write;
+    let _ = writeln!(std::io::stderr().lock(), "{line}");
 }
 
 /// Reads a mesh for a command; a file with neither vertices nor faces is an error (the
@@ -126,10 +156,10 @@ fn main() -> ExitCode {
             // Stopped by Ctrl-C or SIGTERM (`interrupt`): said as such, with the shell's
             // status.
             if let Some(i) = e.downcast_ref::<interrupt::Interrupted>() {
-                eprintln!("algesurf: {i}");
+                print_stderr(format_args!("algesurf: {i}"));
                 return ExitCode::from(i.exit_status());
             }
-            eprintln!("algesurf: error: {e}");
+            print_stderr(format_args!("algesurf: error: {e}"));
             ExitCode::FAILURE
         }
     }

@@ -282,6 +282,6 @@ pub fn run(args: &RenderArgs) -> Result<(), BoxError> {
             format_value(hi)
         );
     }
-    println!("{line}");
+    crate::print_stdout(&(line + "\n"))?;
     Ok(())
 }

@@ -153,8 +153,11 @@ precision of the default free parameters).
 
 Output: positions, normals from ∇F, and per-vertex `patch_id` (PLY property, glTF _PATCH_ID; \
 a vertex shared by several patches gets the smallest of their ids); PLY also gets per-face \
-`patch_id` and `patch_kind` (0 face, 1 edge, 2 planar). Exit status 3: the surface was \
-written, but some rays missed or had a multiple root (see the warning).")]
+`patch_id` and `patch_kind` (0 face, 1 edge, 2 planar).
+
+Exit status: 0 done; 3 the surface was written, but some rays missed or had a multiple root \
+(see the warning); 1 an error (bad input, a surface that cannot be built); 130 or 143 \
+stopped by Ctrl-C or SIGTERM (nothing written: an existing output file is left as it was).")]
 pub struct SmoothArgs {
     /// Input mesh (OBJ, PLY, STL, OFF, glTF or GLB). Omit to smooth the built-in icosahedron.
     pub input: Option<PathBuf>,
@@ -933,13 +936,7 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
         );
         let _ = writeln!(s, "missed rays: {missed}, multiple roots: {multiple}");
     }
-    {
-        use std::io::Write;
-        match std::io::stdout().lock().write_all(s.as_bytes()) {
-            Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => return Err(e.into()),
-            _ => {}
-        }
-    }
+    crate::print_stdout(&s)?;
     if let Some(path) = &args.report {
         write_atomic(path, &(serde_json::to_string_pretty(&report)? + "\n"))?;
     }
@@ -947,7 +944,7 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
     if !(continuity.value <= algesurf_inspect::check::C1_VALUE
         && continuity.gradient <= algesurf_inspect::check::C1_GRADIENT)
     {
-        eprintln!(
+        crate::print_stderr(format_args!(
             "algesurf: warning: {source}: C1 on the sampled facets is above `algesurf check`'s \
              thresholds (value {:.1e} > {:.0e} or gradient {:.1e} > {:.0e}); run `algesurf check` \
              for every facet",
@@ -955,7 +952,7 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
             algesurf_inspect::check::C1_VALUE,
             continuity.gradient,
             algesurf_inspect::check::C1_GRADIENT
-        );
+        ));
     }
     // `main` returns next and the process exits: dropping the input mesh, the surface and
     // the tessellation would free their hundreds of megabytes block by block (about 0.1 s
@@ -965,11 +962,11 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
     if ok {
         Ok(ExitCode::SUCCESS)
     } else {
-        eprintln!(
+        crate::print_stderr(format_args!(
             "algesurf: warning: {source}: the surface has {missed} missed rays and {multiple} rays with a multiple root \
              (single-sheet violations); {} was written, but those points are not on a valid A-patch",
             output.display()
-        );
+        ));
         Ok(ExitCode::from(EXIT_SURFACE_DEFECTS))
     }
 }
