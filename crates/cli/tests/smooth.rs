@@ -467,15 +467,25 @@ fn never_overwrites_the_input() {
     let dir = TempDir::new("smooth", "overwrite");
     let obj = icosphere_obj(0);
     std::fs::write(dir.path().join("ico.obj"), &obj).unwrap();
+    // Writes follow symbolic links (the link is kept, its target replaced), so a link to the
+    // input is the input.
+    #[cfg(unix)]
+    std::os::unix::fs::symlink("ico.obj", dir.path().join("link.obj")).unwrap();
     for args in [
         &["smooth", "ico.obj", "-o", "ico.obj"][..],
         &["smooth", "ico.obj", "-o", "./ico.obj"][..],
         &["smooth", "ico.obj", "-o", "out.ply", "--report", "ico.obj"][..],
+        #[cfg(unix)]
+        &["smooth", "ico.obj", "-o", "link.obj"][..],
+        #[cfg(unix)]
+        &["smooth", "link.obj", "-o", "ico.obj"][..],
     ] {
         let out = algesurf(dir.path(), args);
         assert!(!out.status.success(), "{args:?}: {}", text(&out));
+        // Named as given (`ico.obj` or `link.obj`).
+        let err = String::from_utf8_lossy(&out.stderr);
         assert!(
-            String::from_utf8_lossy(&out.stderr).contains("ico.obj"),
+            err.contains(&format!("{}: refusing to overwrite the input", args[1])),
             "{}",
             text(&out)
         );

@@ -1,7 +1,8 @@
-//! Write to a temporary file in the target directory, then rename over the target.
+//! Write to a temporary file in the target directory, then rename over the target (following
+//! symbolic links; devices and named pipes are written in place).
 
 use std::io::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use algesurf_mesh::progress::{Cancelled, Progress};
@@ -12,6 +13,8 @@ static COUNTER: AtomicU64 = AtomicU64::new(0);
 
 /// Writes `bytes` to `path` through a temporary file in the same directory (created
 /// exclusively, synced) and a rename over `path`, so that readers never see a partial file.
+/// A symbolic link is followed (the file it points at is replaced, and the link stays a
+/// link); a device or named pipe (`/dev/null`, a FIFO) is written in place, not replaced.
 ///
 /// # Errors
 /// [`IoError::Io`] naming `path`; the temporary file is removed on failure.
@@ -24,20 +27,82 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), IoError> {
     })
 }
 
-/// Whether [`write_atomic`] could create its temporary file beside `path`: creates one as it
-/// would (exclusively, same name pattern) and removes it at once, touching nothing else. For
-/// commands that write after minutes of work, to fail before it when the folder does not
-/// take files (no permission, a read-only file system, a pseudo-file system such as
-/// `/proc`).
+/// Where a write to a path goes ([`destination`]).
+#[derive(Debug, PartialEq, Eq)]
+enum Destination {
+    /// A regular file, or a name that does not exist yet: written to a temporary file in the
+    /// folder of `file` and renamed over it. `file` is the path with its symbolic links
+    /// followed, so that a link stays a link and its target gets the new content (renaming
+    /// over the link itself would replace the user's link by a plain file).
+    Replace { file: PathBuf },
+    /// An existing file that is neither a regular file nor a folder: a device such as
+    /// `/dev/null`, a named pipe, a socket. Written in place: renaming over it would replace
+    /// the device or pipe by a plain file (for `/dev/null`, as root, the whole system's).
+    InPlace { file: PathBuf },
+}
+
+/// The most symbolic links followed from one path: Linux's own limit (`MAXSYMLINKS`), past
+/// which `open` fails with `ELOOP`; the write then fails there too, naming the path.
+const MAX_LINKS: usize = 40;
+
+/// Where a write to `path` goes: an existing file as the kernel finds it (every symbolic
+/// link followed, `/proc`'s links to open files such as `/dev/stdout` too), or for a name
+/// that does not exist yet, the name its links lead to (a link that points at a file not yet
+/// made, perhaps through other links).
+fn destination(path: &Path) -> Destination {
+    match std::fs::metadata(path) {
+        Ok(m) if !m.is_file() && !m.is_dir() => Destination::InPlace {
+            file: path.to_path_buf(),
+        },
+        Ok(m) if m.is_file() => Destination::Replace {
+            file: std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf()),
+        },
+        // A folder stays `path`: the rename fails there, naming it.
+        _ => Destination::Replace {
+            file: links_followed(path),
+        },
+    }
+}
+
+/// `path` with its symbolic links followed one by one, for a path that does not resolve to an
+/// existing file (where `canonicalize` fails): a link to a name not yet made, a chain of them.
+fn links_followed(path: &Path) -> PathBuf {
+    let mut file = path.to_path_buf();
+    for _ in 0..MAX_LINKS {
+        match std::fs::symlink_metadata(&file) {
+            Ok(m) if m.file_type().is_symlink() => match std::fs::read_link(&file) {
+                // A relative target is relative to the link's folder.
+                Ok(target) => file = parent_folder(&file).join(target),
+                Err(_) => break,
+            },
+            _ => break,
+        }
+    }
+    file
+}
+
+/// The folder `path` is in (`.` for a bare file name).
+fn parent_folder(path: &Path) -> PathBuf {
+    match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    }
+}
+
+/// Whether [`write_atomic`] could create its temporary file beside `path` (beside the file a
+/// symbolic link `path` points at): creates one as it would (exclusively, same name pattern)
+/// and removes it at once, touching nothing else. For commands that write after minutes of
+/// work, to fail before it when the folder does not take files (no permission, a read-only
+/// file system, a pseudo-file system such as `/proc`). A device or named pipe (written in
+/// place, not replaced) is not opened: opening a pipe waits for its reader.
 ///
 /// # Errors
 /// The [`std::io::Error`] of creating the file.
 pub fn probe_writable(path: &Path) -> Result<(), std::io::Error> {
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => std::path::PathBuf::from("."),
+    let Destination::Replace { file } = destination(path) else {
+        return Ok(());
     };
-    let probe = dir.join(format!(
+    let probe = parent_folder(&file).join(format!(
         ".algesurf-probe.{}.{}.tmp",
         std::process::id(),
         COUNTER.fetch_add(1, Ordering::Relaxed)
@@ -51,7 +116,8 @@ pub fn probe_writable(path: &Path) -> Result<(), std::io::Error> {
 
 /// [`write_atomic`] for content that `fill` writes in pieces (a writer streaming a large mesh,
 /// so that no copy of the whole file is built in memory first). `fill`'s error is returned
-/// as it is, and the temporary file removed.
+/// as it is, and the temporary file removed. A symbolic link is followed and stays a link; a
+/// device or named pipe is written in place ([`Destination`]). Errors name `path` as given.
 pub(crate) fn write_atomic_with(
     path: &Path,
     fill: impl FnOnce(&mut dyn Write) -> Result<(), IoError>,
@@ -60,29 +126,37 @@ pub(crate) fn write_atomic_with(
         path: path.to_path_buf(),
         source,
     };
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => std::path::PathBuf::from("."),
+    let file = match destination(path) {
+        Destination::InPlace { file } => {
+            // No `sync_all`: a device or pipe has nothing to make durable (and `fsync` on one
+            // fails with `EINVAL` on Linux).
+            let mut out = std::fs::OpenOptions::new()
+                .write(true)
+                .open(&file)
+                .map_err(io_err)?;
+            return fill(&mut out);
+        }
+        Destination::Replace { file } => file,
     };
-    let name = path
+    let name = file
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_else(|| "mesh".into());
-    let tmp = dir.join(format!(
+    let tmp = parent_folder(&file).join(format!(
         ".{name}.{}.{}.tmp",
         std::process::id(),
         COUNTER.fetch_add(1, Ordering::Relaxed)
     ));
-    let mut file = std::fs::OpenOptions::new()
+    let mut out = std::fs::OpenOptions::new()
         .write(true)
         .create_new(true)
         .open(&tmp)
         .map_err(io_err)?;
-    let result = fill(&mut file).and_then(|()| {
-        file.sync_all()
+    let result = fill(&mut out).and_then(|()| {
+        out.sync_all()
             .and_then(|()| {
-                drop(file);
-                std::fs::rename(&tmp, path)
+                drop(out);
+                std::fs::rename(&tmp, &file)
             })
             .map_err(io_err)
     });

@@ -31,7 +31,9 @@
 //! * OBJ, OFF and PLY writers keep full `f64` precision unless [`WriteOptions::f32`] is set; STL
 //!   and glTF store `f32` by definition of the format.
 //! * Writers write a temporary file in the target directory and rename it over the target, so a
-//!   failed write never clobbers an existing file.
+//!   failed write never clobbers an existing file. A symbolic link is followed (its target is
+//!   replaced, the link kept); a device or named pipe (`/dev/null`, a FIFO) is written in
+//!   place instead of being replaced by a plain file.
 //! * PLY and GLB files are streamed to disk: encoded in blocks of elements in parallel and
 //!   written in order, without a copy of the whole file in memory (a tessellation's file is
 //!   tens of megabytes, and the fresh pages of such a copy cost more than the encoding).
