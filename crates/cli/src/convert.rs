@@ -45,6 +45,7 @@ pub struct ConvertArgs {
 /// normals cannot be computed on (non-manifold or invalid faces: try `--repair`), or a write
 /// failure (the output file is then left untouched).
 pub fn run(args: &ConvertArgs) -> Result<(), Box<dyn std::error::Error>> {
+    crate::known_format(&args.output)?;
     let mut mesh = crate::read_mesh(&args.input)?;
     if args.repair {
         let repaired = repair(&mesh, &RepairOptions::default())?;

@@ -123,6 +123,18 @@ pub(crate) fn print_stderr(line: std::fmt::Arguments<'_>) {
     let _ = writeln!(std::io::stderr().lock(), "{line}");
 }
 
+/// `Err` (the writer's own [`algesurf_io::IoError::UnknownFormat`], naming the file and the
+/// extensions it knows) when `output`'s extension names no mesh format: checked before the
+/// work, since the writer would find it only at the end.
+pub(crate) fn known_format(output: &std::path::Path) -> Result<(), algesurf_io::IoError> {
+    match algesurf_io::Format::from_path(output) {
+        Some(_) => Ok(()),
+        None => Err(algesurf_io::IoError::UnknownFormat {
+            path: output.to_path_buf(),
+        }),
+    }
+}
+
 /// Reads a mesh for a command; a file with neither vertices nor faces is an error (the
 /// lenient OBJ reader skips lines it does not know, so any text file reads as an empty OBJ).
 pub(crate) fn read_mesh(

@@ -157,6 +157,20 @@ fn read_triangles(path: &Path) -> Result<TriMesh, BoxError> {
     Ok(tri)
 }
 
+/// `Err` when `path` has an extension other than `.png` (any case): the image is always
+/// PNG, and `x.jpg` holding PNG bytes would mislead whatever opens it. A name without one
+/// (`/dev/stdout`, `preview`) is taken as it is.
+fn png_name(path: &std::path::Path) -> Result<(), BoxError> {
+    match path.extension() {
+        Some(ext) if !ext.eq_ignore_ascii_case("png") => Err(format!(
+            "{}: render writes PNG images: name the output .png (or give no extension)",
+            path.display()
+        )
+        .into()),
+        _ => Ok(()),
+    }
+}
+
 /// Renders and writes the PNG.
 ///
 /// # Errors
@@ -176,6 +190,7 @@ pub fn run(args: &RenderArgs) -> Result<(), BoxError> {
         .into());
     }
     // Before the work: rendering a smoothed bunny takes seconds, and the write came last.
+    png_name(&args.output)?;
     crate::smooth::folder_exists(&args.output, "image")?;
     let views: Vec<View> = if args.eye.is_none() {
         args.view

@@ -100,7 +100,7 @@ fn render_errors_are_clear_and_leave_no_output() {
     let dir = TempDir::new("render", "errors");
     let torus = write_torus(dir.path());
     let t = torus.to_str().unwrap();
-    let cases: [(&[&str], &str); 9] = [
+    let cases: [(&[&str], &str); 10] = [
         (&["render", t, "-o", "a.png", "--size", "12x"], "bad size"),
         (&["render", t, "-o", "a.png", "--mode", "glossy"], "glossy"),
         (
@@ -114,6 +114,11 @@ fn render_errors_are_clear_and_leave_no_output() {
         (&["render", "missing.obj", "-o", "a.png"], "missing.obj"),
         (&["render", "-o", "a.png"], "INPUT mesh is required"),
         (&["render", t, "-o", t], "refusing to overwrite the input"),
+        // PNG bytes in a .jpg would mislead whatever opens it; refused before the input is read.
+        (
+            &["render", "missing.obj", "-o", "a.jpg"],
+            "a.jpg: render writes PNG images",
+        ),
         // Refused before rendering (it failed only at the write).
         (
             &["render", t, "-o", "missing/a.png", "--smooth"],
