@@ -193,7 +193,8 @@ pub fn write_as(
 /// total: the size is known only once the file is encoded) and stopping when it is
 /// [cancelled](Progress::cancelled): before the temporary file is made, or between the
 /// pieces it is written in (a megabyte or less each). A cancelled write removes its
-/// temporary file and leaves `path` as it was: absent, or the old file.
+/// temporary file and leaves `path` as it was: absent, or the old file (a device or named
+/// pipe, which is written in place, has had what was written before the stop).
 ///
 /// ```
 /// use algesurf_io::{write_with_progress, IoError, WriteOptions};
