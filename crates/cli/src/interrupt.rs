@@ -132,7 +132,7 @@ mod tests {
     use algesurf_mesh::progress::ProgressCounter;
 
     /// The sink forwards reports, and stops when its inner sink does (the signal's own path
-    /// is the integration test `ctrl_c_stops_smooth_and_writes_nothing`: a unit test raising
+    /// is tested end to end in `tests/interrupt.rs`, with real signals: a unit test raising
     /// the process-wide flag would stop every other test of this binary).
     #[test]
     fn the_sink_forwards_reports_and_stops_with_its_inner_sink() {
