@@ -171,11 +171,7 @@ pub fn write(
     mesh: &PolygonMesh,
     options: &WriteOptions,
 ) -> Result<(), IoError> {
-    let path = path.as_ref();
-    let format = Format::from_path(path).ok_or_else(|| IoError::UnknownFormat {
-        path: path.to_path_buf(),
-    })?;
-    write_as(path, mesh, format, options)
+    write_with_progress(path, mesh, options, &NoProgress)
 }
 
 /// Writes a mesh in the given format, whatever the extension of `path` (atomically, as
