@@ -94,11 +94,25 @@ impl System {
                         cols[t + 1] = ia * 20 + up[k];
                         weights[t + 1] = w;
                     }
-                    self.push_slice(&cols[..=len], &weights[..=len], 0.0);
+                    // One monomorphised push per row length (the row's own coefficient and
+                    // the 1–4 non-zero weights of `v`): see `System::push_array`. `v` sums
+                    // to 1, so `len ≥ 1`; the slice push is only a fallback.
+                    match len {
+                        1 => self.push_array(&first::<_, 2>(&cols), &first(&weights), 0.0),
+                        2 => self.push_array(&first::<_, 3>(&cols), &first(&weights), 0.0),
+                        3 => self.push_array(&first::<_, 4>(&cols), &first(&weights), 0.0),
+                        4 => self.push_array(&cols, &weights, 0.0),
+                        _ => self.push_slice(&cols[..=len], &weights[..=len], 0.0),
+                    }
                 }
             }
         }
     }
+}
+
+/// The first `K` entries of a join row's terms (`K ≤ 5`).
+fn first<T: Copy, const K: usize>(x: &[T; 5]) -> [T; K] {
+    std::array::from_fn(|i| x[i])
 }
 
 impl SplitSide {

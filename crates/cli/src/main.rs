@@ -23,8 +23,8 @@ use std::process::ExitCode;
 /// buffers on two threads (coefficient vectors, root sets, per-face systems) and large ones per
 /// refinement round; with glibc's malloc 15 % of `algesurf smooth` on the bunny was in
 /// `malloc`/`free` and page faults (`perf record`, 2026-12-01). Safe code: the crate's
-/// `GlobalAlloc` impl carries the `unsafe`. Built with `no_thp` and tuned by
-/// [`allocator::keep_freed_pages`]: see there for why.
+/// `GlobalAlloc` impl carries the `unsafe`. Tuned by [`allocator::keep_freed_pages`]: see there
+/// for why, and for transparent huge pages.
 #[global_allocator]
 static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
@@ -36,11 +36,21 @@ mod allocator {
     /// per stage. After a purge, every reuse of a page is a page fault that the kernel answers
     /// with a freshly zeroed page. With mimalloc's defaults, `clear_page_erms` was 26 % of all
     /// samples of `algesurf smooth` on the bunny (`perf record`, 2026-12-01), and system time
-    /// was 2.7 s of a 6.1 s run. The `no_thp` build feature (no `MADV_HUGEPAGE`, so a fault
-    /// zeroes 4 KiB instead of 2 MiB) took that to 0.9–1.0 s; no purging takes it to 0.5 s,
-    /// and the wall time to 4.4–4.6 s (`/usr/bin/time`, resolution 3 × 2, two runs each).
-    /// The cost is that the process's resident size stays at its peak (754 MB instead of
-    /// 729 MB for the bunny), which is right for a command that exits when its job is done.
+    /// was 2.7 s of a 6.1 s run. Building without transparent huge pages (mimalloc's
+    /// `no_thp`: no `MADV_HUGEPAGE`, so a fault zeroes 4 KiB instead of 2 MiB) took that to
+    /// 0.9–1.0 s; no purging took it to 0.5 s, and the wall time to 4.4–4.6 s
+    /// (`/usr/bin/time`, resolution 3 × 2, two runs each). The cost is that the process's
+    /// resident size stays at its peak, which is right for a command that exits when its job
+    /// is done.
+    ///
+    /// Huge pages are back on since (mimalloc's default `allow_thp`, where the kernel's
+    /// `transparent_hugepage` setting allows them): once freed pages are kept, a page is
+    /// faulted in once, and taking 2 MiB per fault instead of 4 KiB cut the bunny's
+    /// construction faults from ~104 k to ~250 and its construction + tessellation by 8 %
+    /// (median of six alternating runs, 1.040 → 0.955 s; spot −15 %, the cow −8 %), also
+    /// with the page cache filling the memory (the kernel then compacts: 1.125 → 1.080 s).
+    /// The resident peak grows by 5–25 % (bunny 575 → 605 MB). `MIMALLOC_ALLOW_THP=0` in the
+    /// environment turns them off again (docs/PERFORMANCE.md, twenty-first pass).
     ///
     /// Called first thing in `main`, before any thread exists. A user's own
     /// `MIMALLOC_PURGE_DELAY` in the environment wins: mimalloc reads it at start-up, and the
