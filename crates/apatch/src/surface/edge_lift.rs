@@ -49,11 +49,10 @@ pub(crate) fn edge_need(
     let (pi, pj) = (pos[he.vertices[0] as usize], pos[he.vertices[1] as usize]);
     // The lift: how the edge cubic moves per unit of a common increment of both apex values.
     let lift = EdgeCubic::apex_square_lift(
-        pi,
-        pj,
+        cubic,
         faces[he.face_k as usize].edge_piece(side, pi, pj)?.tet,
         faces[fl as usize].edge_piece(side, pi, pj)?.tet,
-    )?;
+    );
     let two_sided = edges[e][0].is_some() && edges[e][1].is_some();
     // The exact need of one ray: −∞ where it needs nothing (it starts on this side's far
     // side, or on a two-sided edge the other side serves it), +∞ where raising the apex values
