@@ -236,41 +236,50 @@ impl EdgeCubic {
         k: &EdgeNeighbour,
         l: &EdgeNeighbour,
     ) -> Result<Self, ApatchError> {
-        Self::from_parts(
-            pi,
-            pj,
+        let tet = Tetrahedron::new([l.tet.vertex(3), pi, pj, k.tet.vertex(3)])?;
+        Ok(Self::from_parts(
+            tet,
             (&k.tet, &cubic::coeffs_of(&k.poly)),
             (&l.tet, &cubic::coeffs_of(&l.poly)),
-        )
+        ))
     }
 
-    /// The edge cubic on `side` of the edge `(pi, pj)` between the faces `face_k` and
-    /// `face_l` ([`EdgeCubic::from_neighbours`] of their [`FaceFunction::edge_neighbour`]s,
-    /// without copying a tetrahedron or allocating a polynomial).
+    /// The edge cubic on the edge tetrahedron `tet` = `[u_l, p_i, p_j, u_k]` between the faces
+    /// `face_k` and `face_l` ([`EdgeCubic::from_neighbours`] of their
+    /// [`FaceFunction::edge_neighbour`]s on `side`, without copying a face's tetrahedron or
+    /// allocating a polynomial). `tet` is the hull's edge tetrahedron
+    /// ([`algesurf_hull::EdgeTetrahedron`]), built once by the hull and not again here.
     pub(crate) fn between(
         face_k: &FaceFunction,
         face_l: &FaceFunction,
         side: Side,
-        pi: DVec3,
-        pj: DVec3,
+        tet: &Tetrahedron,
     ) -> Result<Self, ApatchError> {
+        let (pi, pj) = (tet.vertex(1), tet.vertex(2));
         let (k, l) = (
             face_k.edge_piece(side, pi, pj)?,
             face_l.edge_piece(side, pi, pj)?,
         );
-        Self::from_parts(pi, pj, (k.tet, &k.coeffs()), (l.tet, &l.coeffs()))
+        Ok(Self::from_parts(
+            *tet,
+            (k.tet, &k.coeffs()),
+            (l.tet, &l.coeffs()),
+        ))
     }
 
-    /// [`EdgeCubic::from_neighbours`] from each side's tetrahedron and coefficients.
+    /// [`EdgeCubic::from_neighbours`] from the edge tetrahedron `[u_l, p_i, p_j, u_k]` and each
+    /// side's tetrahedron (apex `u_k`, `u_l` last) and coefficients.
     fn from_parts(
-        pi: DVec3,
-        pj: DVec3,
+        tet: Tetrahedron,
         (tk, pk): (&Tetrahedron, &cubic::Coeffs),
         (tl, pl): (&Tetrahedron, &cubic::Coeffs),
-    ) -> Result<Self, ApatchError> {
-        let uk = tk.vertex(3);
-        let ul = tl.vertex(3);
-        let tet = Tetrahedron::new([ul, pi, pj, uk])?;
+    ) -> Self {
+        let [ul, pi, pj, uk] = *tet.vertices();
+        debug_assert_eq!(
+            (tk.vertex(3), tl.vertex(3)),
+            (uk, ul),
+            "the edge tetrahedron's apexes are its neighbours'"
+        );
         let verts = |t: &Tetrahedron| {
             let bary = |p: DVec3| exact_barycentric(t, p);
             Verts::new([bary(ul), bary(pi), bary(pj), bary(uk)])
@@ -300,12 +309,12 @@ impl EdgeCubic {
                 },
             }
         }
-        Ok(EdgeCubic {
+        EdgeCubic {
             tet,
             poly: BbPoly::new(3, coeffs.to_vec()).expect("20 coefficients"),
             rational,
             overlap_mismatch: mismatch,
-        })
+        }
     }
 
     /// [`EdgeCubic::from_neighbours`] for neighbours whose polynomials are both the apex square

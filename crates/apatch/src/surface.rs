@@ -573,7 +573,8 @@ fn build_edges(
 /// (Steps 7 and 9, [`EdgeCubic::between`]).
 ///
 /// # Errors
-/// [`ApatchError::Inconsistent`] for a boundary edge or a face with no piece on `side`.
+/// [`ApatchError::Inconsistent`] for a boundary edge, an edge without a tetrahedron on `side`
+/// or a face with no piece on `side`.
 pub(crate) fn edge_cubic(
     hull: &SimplicialHull,
     faces: &[FaceFunction],
@@ -584,14 +585,14 @@ pub(crate) fn edge_cubic(
     let fl = he
         .face_l
         .ok_or_else(|| ApatchError::Inconsistent(format!("edge {e} is a boundary edge")))?;
-    let pos = hull.mesh().positions();
-    let (pi, pj) = (pos[he.vertices[0] as usize], pos[he.vertices[1] as usize]);
+    let tet = he.tetrahedron(side).ok_or_else(|| {
+        ApatchError::Inconsistent(format!("edge {e} has no {} tetrahedron", side.name()))
+    })?;
     EdgeCubic::between(
         &faces[he.face_k as usize],
         &faces[fl as usize],
         side,
-        pi,
-        pj,
+        &tet.tetrahedron,
     )
 }
 
