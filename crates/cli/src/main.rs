@@ -1,6 +1,7 @@
 //! The `algesurf` command-line tool.
-// `deny`, not `forbid`: one FFI call in [`allocator`] sets mimalloc's purge policy, for a
-// measured 10 % of `algesurf smooth`'s wall time (see there); everything else stays safe.
+// `deny`, not `forbid`: two FFI calls in [`allocator`] set mimalloc's purge policy and switch
+// transparent huge pages off, each for a measured share of `algesurf smooth`'s wall time (see
+// there); everything else stays safe.
 #![deny(unsafe_code)]
 
 mod check;
@@ -23,8 +24,8 @@ use std::process::ExitCode;
 /// buffers on two threads (coefficient vectors, root sets, per-face systems) and large ones per
 /// refinement round; with glibc's malloc 15 % of `algesurf smooth` on the bunny was in
 /// `malloc`/`free` and page faults (`perf record`, 2026-12-01). Safe code: the crate's
-/// `GlobalAlloc` impl carries the `unsafe`. Tuned by [`allocator::keep_freed_pages`]: see there
-/// for why, and for transparent huge pages.
+/// `GlobalAlloc` impl carries the `unsafe`. Tuned by [`allocator::keep_freed_pages`] and
+/// [`allocator::no_transparent_huge_pages`]: see there for why.
 #[global_allocator]
 static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
@@ -43,14 +44,7 @@ mod allocator {
     /// resident size stays at its peak, which is right for a command that exits when its job
     /// is done.
     ///
-    /// Huge pages are back on since (mimalloc's default `allow_thp`, where the kernel's
-    /// `transparent_hugepage` setting allows them): once freed pages are kept, a page is
-    /// faulted in once, and taking 2 MiB per fault instead of 4 KiB cut the bunny's
-    /// construction faults from ~104 k to ~250 and its construction + tessellation by 8 %
-    /// (median of six alternating runs, 1.040 → 0.955 s; spot −15 %, the cow −8 %), also
-    /// with the page cache filling the memory (the kernel then compacts: 1.125 → 1.080 s).
-    /// The resident peak grows by 5–25 % (bunny 575 → 605 MB). `MIMALLOC_ALLOW_THP=0` in the
-    /// environment turns them off again (docs/PERFORMANCE.md, twenty-first pass).
+    /// Transparent huge pages are off (see [`no_transparent_huge_pages`]).
     ///
     /// Called first thing in `main`, before any thread exists. A user's own
     /// `MIMALLOC_PURGE_DELAY` in the environment wins: mimalloc reads it at start-up, and the
@@ -71,6 +65,41 @@ mod allocator {
         #[allow(unsafe_code)]
         unsafe {
             libmimalloc_sys::mi_option_set(PURGE_DELAY, -1);
+        }
+    }
+
+    /// Switches transparent huge pages off for this process (`prctl(PR_SET_THP_DISABLE)`),
+    /// unless `MIMALLOC_ALLOW_THP` is set in the environment, in which case mimalloc does
+    /// what that says.
+    ///
+    /// Why: mimalloc asks for huge pages on its arenas (`MADV_HUGEPAGE`), and on the
+    /// virtualised machine this project is measured on a 2 MiB fault can cost far more than
+    /// the 512 faults of 4 KiB it replaces: the hypervisor backs the guest's memory on first
+    /// touch, and the small pages a process gets are mostly ones the guest has used before
+    /// while a huge page needs 2 MiB of contiguous, often never-touched memory. Eleven
+    /// alternating pairs of runs of the bunny at 3 × 2 (`MIMALLOC_ALLOW_THP=1` against `=0`,
+    /// docs/PERFORMANCE.md, twenty-third pass): construction + tessellation 1.19–1.76 s
+    /// (median 1.50) against 0.95–1.05 s (median 1.00), system time 0.78–1.88 s against
+    /// 0.24–0.34 s; only in four pairs right after 16 GiB had been written to `/dev/shm` did
+    /// huge pages draw level (0.88–1.12 against 0.90–1.08 s), and that lasted minutes. Small
+    /// pages cost ~100 k more page faults (0.25 s of system time on two threads) on every
+    /// run; huge pages cost nothing or up to 0.8 s, depending on what the host did earlier.
+    ///
+    /// The kernel's per-process flag overrides `MADV_HUGEPAGE` and the system-wide
+    /// `transparent_hugepage=always`, so mimalloc's arenas, whenever they were mapped, get
+    /// small pages. Called first thing in `main`; on systems other than Linux it does nothing.
+    pub(crate) fn no_transparent_huge_pages() {
+        if std::env::var_os("MIMALLOC_ALLOW_THP").is_some() {
+            return;
+        }
+        #[cfg(target_os = "linux")]
+        {
+            // SAFETY: `prctl(PR_SET_THP_DISABLE, 1, 0, 0, 0)` takes integers only and sets a
+            // flag on the calling process's memory map; it reads or writes no user memory.
+            // Its result is ignored on purpose: a kernel without the flag (before Linux 3.15)
+            // leaves huge pages as they were, which is slower at worst.
+            #[allow(unsafe_code)]
+            let _ = unsafe { libc::prctl(libc::PR_SET_THP_DISABLE, 1, 0, 0, 0) };
         }
     }
 }
@@ -163,6 +192,7 @@ pub(crate) fn read_mesh(
 
 fn main() -> ExitCode {
     allocator::keep_freed_pages();
+    allocator::no_transparent_huge_pages();
     interrupt::install();
     let cli = Cli::parse();
     let result = match &cli.command {

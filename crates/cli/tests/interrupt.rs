@@ -7,9 +7,9 @@ mod common;
 
 use std::path::Path;
 use std::process::{Child, Command, Stdio};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
-use common::TempDir;
+use common::{TempDir, wait_for_handler};
 
 use algesurf_io::{Format, WriteOptions};
 use algesurf_mesh::{PolygonMesh, shapes};
@@ -23,29 +23,6 @@ fn spawn(dir: &Path, args: &[&str]) -> Child {
         .stderr(Stdio::piped())
         .spawn()
         .expect("start algesurf")
-}
-
-/// Waits until `pid` catches `signal` (its bit in `SigCgt` of `/proc/PID/status`): the
-/// handler is installed first thing in `main`, so this is microseconds after the start, but a
-/// signal sent before it would end the process by the default action and prove nothing.
-fn wait_for_handler(pid: u32, signal: u32) {
-    let start = Instant::now();
-    loop {
-        let status = std::fs::read_to_string(format!("/proc/{pid}/status")).unwrap_or_default();
-        let caught = status
-            .lines()
-            .find_map(|l| l.strip_prefix("SigCgt:"))
-            .and_then(|m| u64::from_str_radix(m.trim(), 16).ok())
-            .is_some_and(|mask| mask & (1 << (signal - 1)) != 0);
-        if caught {
-            return;
-        }
-        assert!(
-            start.elapsed() < Duration::from_secs(30),
-            "the process never installed its handler for signal {signal}"
-        );
-        std::thread::sleep(Duration::from_millis(5));
-    }
 }
 
 fn send(pid: u32, signal: &str) {

@@ -48,3 +48,27 @@ pub fn text(out: &Output) -> String {
         String::from_utf8_lossy(&out.stderr)
     )
 }
+
+/// Waits until `pid` catches `signal` (its bit in `SigCgt` of `/proc/PID/status`): the
+/// handler is installed first thing in `main`, so this is microseconds after the start, but a
+/// signal sent before it would end the process by the default action and prove nothing.
+#[cfg(target_os = "linux")]
+pub fn wait_for_handler(pid: u32, signal: u32) {
+    let start = std::time::Instant::now();
+    loop {
+        let status = std::fs::read_to_string(format!("/proc/{pid}/status")).unwrap_or_default();
+        let caught = status
+            .lines()
+            .find_map(|l| l.strip_prefix("SigCgt:"))
+            .and_then(|m| u64::from_str_radix(m.trim(), 16).ok())
+            .is_some_and(|mask| mask & (1 << (signal - 1)) != 0);
+        if caught {
+            return;
+        }
+        assert!(
+            start.elapsed() < std::time::Duration::from_secs(30),
+            "the process never installed its handler for signal {signal}"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+}
