@@ -396,15 +396,46 @@ pub fn smooth(root: &Path, args: &[String]) -> Result<()> {
         .map(|((a, _), b)| format!("{:.2}", a / b))
         .collect();
     let best_ours = ours.iter().map(|o| o.0).fold(f64::INFINITY, f64::min);
+    let (median_ours, median_theirs) = (
+        median(ours.iter().map(|o| o.0).collect()),
+        median(theirs.clone()),
+    );
     println!(
-        "ratio algesurf / libigl: {:.2} ({}); turn by turn: {}",
+        "ratio algesurf / libigl: {:.2} ({}); turn by turn: {}; medians {median_ours:.3} \
+         against {median_theirs:.3} s, ratio {:.2}",
         best_ours / best_theirs,
         if best_ours < best_theirs {
             "algesurf faster"
         } else {
             "libigl faster"
         },
-        turns.join(", ")
+        turns.join(", "),
+        median_ours / median_theirs
     );
     Ok(())
+}
+
+/// The median of `times` (the mean of the middle two for an even count; NaN when empty).
+/// Printed beside the best of the runs: a best of three hides a slow mode that two runs in
+/// three fall into (huge pages on a young virtual machine, docs/PERFORMANCE.md, twenty-third
+/// pass), which the median shows.
+fn median(mut times: Vec<f64>) -> f64 {
+    times.sort_by(f64::total_cmp);
+    match times.len() {
+        0 => f64::NAN,
+        n if n % 2 == 1 => times[n / 2],
+        n => (times[n / 2 - 1] + times[n / 2]) / 2.0,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::median;
+
+    #[test]
+    fn median_is_the_middle_run_or_the_mean_of_the_middle_two() {
+        assert_eq!(median(vec![1.9, 1.0, 1.3]), 1.3);
+        assert_eq!(median(vec![2.0, 1.0, 4.0, 3.0]), 2.5);
+        assert!(median(Vec::new()).is_nan());
+    }
 }
