@@ -8,19 +8,8 @@ mod common;
 
 use std::process::{Command, Stdio};
 
-use algesurf_io::{Format, WriteOptions};
 use algesurf_mesh::shapes;
-use common::{TempDir, wait_for_handler};
-
-/// The `THP_enabled` field of `/proc/PID/status` (`pid` or `self`), `None` on kernels
-/// without it.
-fn thp_enabled(pid: &str) -> Option<String> {
-    std::fs::read_to_string(format!("/proc/{pid}/status"))
-        .ok()?
-        .lines()
-        .find_map(|l| l.strip_prefix("THP_enabled:"))
-        .map(|v| v.trim().to_owned())
-}
+use common::{TempDir, obj_bytes, proc_status_field, send, wait_for_handler};
 
 /// `THP_enabled` of `algesurf smooth` while it waits for its input (a named pipe), with
 /// `MIMALLOC_ALLOW_THP` set to `allow` or removed. The flag is set before the signal handler
@@ -43,15 +32,9 @@ fn thp_of_a_running_command(name: &str, allow: Option<&str>) -> String {
     }
     let child = command.spawn().expect("start algesurf");
     wait_for_handler(child.id(), 15);
-    let value = thp_enabled(&child.id().to_string());
-    let killed = Command::new("kill")
-        .args(["-s", "TERM", &child.id().to_string()])
-        .status()
-        .expect("run kill");
-    assert!(killed.success());
-    let input = shapes::icosphere(1).to_polygon_mesh();
-    let bytes = algesurf_io::write_bytes(&input, Format::Obj, &WriteOptions::default()).unwrap();
-    std::fs::write(&fifo, bytes).unwrap();
+    let value = proc_status_field(&child.id().to_string(), "THP_enabled");
+    send(child.id(), "TERM");
+    std::fs::write(&fifo, obj_bytes(&shapes::icosphere(1).to_polygon_mesh())).unwrap();
     let out = child.wait_with_output().unwrap();
     assert_eq!(out.status.code(), Some(143), "{}", common::text(&out));
     value.expect("THP_enabled was read from this process's status, so the child has it too")
@@ -59,7 +42,7 @@ fn thp_of_a_running_command(name: &str, allow: Option<&str>) -> String {
 
 #[test]
 fn the_command_runs_without_transparent_huge_pages() {
-    let Some(own) = thp_enabled("self") else {
+    let Some(own) = proc_status_field("self", "THP_enabled") else {
         eprintln!("skipped: this kernel's /proc/PID/status has no THP_enabled field");
         return;
     };

@@ -9,10 +9,9 @@ use std::path::Path;
 use std::process::{Child, Command, Stdio};
 use std::time::Duration;
 
-use common::{TempDir, wait_for_handler};
+use common::{TempDir, obj_bytes, send, wait_for_handler};
 
-use algesurf_io::{Format, WriteOptions};
-use algesurf_mesh::{PolygonMesh, shapes};
+use algesurf_mesh::shapes;
 
 /// Starts `algesurf ARGS` in `dir`, its output captured.
 fn spawn(dir: &Path, args: &[&str]) -> Child {
@@ -25,15 +24,6 @@ fn spawn(dir: &Path, args: &[&str]) -> Child {
         .expect("start algesurf")
 }
 
-fn send(pid: u32, signal: &str) {
-    let ok = Command::new("kill")
-        .args(["-s", signal, &pid.to_string()])
-        .status()
-        .expect("run kill")
-        .success();
-    assert!(ok, "kill -s {signal} {pid}");
-}
-
 /// The files in `dir` whose names end in `.tmp` (a write's temporary file).
 fn temporaries(dir: &Path) -> Vec<String> {
     std::fs::read_dir(dir)
@@ -42,10 +32,6 @@ fn temporaries(dir: &Path) -> Vec<String> {
         .map(|e| e.file_name().to_string_lossy().into_owned())
         .filter(|n| n.ends_with(".tmp"))
         .collect()
-}
-
-fn obj_bytes(mesh: &PolygonMesh) -> Vec<u8> {
-    algesurf_io::write_bytes(mesh, Format::Obj, &WriteOptions::default()).unwrap()
 }
 
 /// The signal comes while the command waits for its input (a named pipe that nothing has

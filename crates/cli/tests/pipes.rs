@@ -7,9 +7,8 @@ mod common;
 
 use std::process::{Command, Output, Stdio};
 
-use common::TempDir;
+use common::{TempDir, obj_bytes};
 
-use algesurf_io::{Format, WriteOptions};
 use algesurf_mesh::shapes;
 
 /// Which of the command's streams goes to a pipe whose reading end is already closed.
@@ -37,7 +36,7 @@ fn run_with_closed(dir: &std::path::Path, args: &[&str], closed: Closed) -> Outp
 fn a_closed_pipe_is_not_a_panic() {
     let dir = TempDir::new("pipes", "closed");
     let mesh = shapes::icosphere(1).to_polygon_mesh();
-    let obj = algesurf_io::write_bytes(&mesh, Format::Obj, &WriteOptions::default()).unwrap();
+    let obj = obj_bytes(&mesh);
     std::fs::write(dir.path().join("ball.obj"), obj).unwrap();
     let cases: [(&[&str], Closed, i32, Option<&str>); 6] = [
         (&["info", "ball.obj"], Closed::Stdout, 0, None),

@@ -49,6 +49,17 @@ pub fn text(out: &Output) -> String {
     )
 }
 
+/// The field `name` of `/proc/PID/status` (`pid` a process id or `self`), trimmed; `None`
+/// when the process or the field is not there (a kernel too old for it).
+#[cfg(target_os = "linux")]
+pub fn proc_status_field(pid: &str, name: &str) -> Option<String> {
+    std::fs::read_to_string(format!("/proc/{pid}/status"))
+        .ok()?
+        .lines()
+        .find_map(|l| l.strip_prefix(name)?.strip_prefix(':'))
+        .map(|v| v.trim().to_owned())
+}
+
 /// Waits until `pid` catches `signal` (its bit in `SigCgt` of `/proc/PID/status`): the
 /// handler is installed first thing in `main`, so this is microseconds after the start, but a
 /// signal sent before it would end the process by the default action and prove nothing.
@@ -56,11 +67,8 @@ pub fn text(out: &Output) -> String {
 pub fn wait_for_handler(pid: u32, signal: u32) {
     let start = std::time::Instant::now();
     loop {
-        let status = std::fs::read_to_string(format!("/proc/{pid}/status")).unwrap_or_default();
-        let caught = status
-            .lines()
-            .find_map(|l| l.strip_prefix("SigCgt:"))
-            .and_then(|m| u64::from_str_radix(m.trim(), 16).ok())
+        let caught = proc_status_field(&pid.to_string(), "SigCgt")
+            .and_then(|m| u64::from_str_radix(&m, 16).ok())
             .is_some_and(|mask| mask & (1 << (signal - 1)) != 0);
         if caught {
             return;
@@ -71,4 +79,25 @@ pub fn wait_for_handler(pid: u32, signal: u32) {
         );
         std::thread::sleep(std::time::Duration::from_millis(5));
     }
+}
+
+/// Sends `signal` (a name for `kill -s`: `INT`, `TERM`) to `pid`.
+#[cfg(unix)]
+pub fn send(pid: u32, signal: &str) {
+    let ok = Command::new("kill")
+        .args(["-s", signal, &pid.to_string()])
+        .status()
+        .expect("run kill")
+        .success();
+    assert!(ok, "kill -s {signal} {pid}");
+}
+
+/// `mesh` as the bytes of an OBJ file.
+pub fn obj_bytes(mesh: &algesurf_mesh::PolygonMesh) -> Vec<u8> {
+    algesurf_io::write_bytes(
+        mesh,
+        algesurf_io::Format::Obj,
+        &algesurf_io::WriteOptions::default(),
+    )
+    .unwrap()
 }
