@@ -64,6 +64,19 @@ fn bvh_build(bencher: Bencher) {
     bencher.bench(|| black_box(TriangleBvh::new(&mesh)));
 }
 
+/// The bunny numbered in spatial order as `algesurf smooth` builds on it: the faces' Morton
+/// order, the vertices by first use, and the renumbered mesh with its new topology
+/// (`SpatialOrder::of` and `apply`).
+#[divan::bench(sample_count = 20)]
+fn spatial_order(bencher: Bencher) {
+    use algesurf::mesh::spatial_order::SpatialOrder;
+    let mesh = bunny_mesh();
+    bencher.bench(|| {
+        let order = SpatialOrder::of(&mesh);
+        black_box(order.apply(&mesh).unwrap())
+    });
+}
+
 /// The input's self-intersections (`algesurf smooth`'s crossing zone): the tree build and
 /// one self-join over the faces' boxes, with the exact triangle test on every candidate pair.
 #[divan::bench(sample_count = 20)]

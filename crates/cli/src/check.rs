@@ -83,7 +83,10 @@ pub fn run(args: &CheckArgs) -> Result<ExitCode, BoxError> {
         check_with_progress(&view, &options, p)
     });
     crate::interrupt::check()?;
-    let report = report.map_err(|e| format!("{source}: {e}"))?;
+    let mut report = report.map_err(|e| format!("{source}: {e}"))?;
+    for row in &mut report.rows {
+        row.at = row.at.map(|at| built.numbering.repaired_location(at));
+    }
     let hull_faces = built.surface.hull().mesh().face_count();
     let text = format!(
         "{source}: {} faces in ({}), {hull_faces} hull faces, {} pieces; tessellation resolution {}\n{report}\n",

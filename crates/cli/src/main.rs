@@ -13,6 +13,7 @@ mod hints;
 mod info;
 mod interrupt;
 mod memory;
+mod numbering;
 mod render;
 mod smooth;
 mod stage;

@@ -309,15 +309,23 @@ fn kind_code(k: PatchKind) -> i64 {
 /// The output mesh: positions, ∇F normals, per-vertex patch id (the smallest patch id among
 /// the triangles using the vertex, so the vertex of a patch's interior gets that patch), and
 /// with `face_properties` (for a format that stores them) per-face patch id and kind. The
-/// positions, normals and triangles are moved out of `t`.
-fn output_mesh(t: &mut Tessellation, face_properties: bool) -> PolygonMesh {
+/// positions, normals and triangles are moved out of `t`, its first vertices renumbered as
+/// the repaired mesh's (`numbering`).
+fn output_mesh(
+    t: &mut Tessellation,
+    numbering: &crate::numbering::Numbering,
+    face_properties: bool,
+) -> PolygonMesh {
     // Moved, not copied: 35 MB of positions and 18 MB of triangles on the bunny's
     // tessellation, whose copies' fresh pages cost ~2.4 µs per 4 KiB page here.
-    let mut mesh = PolygonMesh::from_owned_triangles(
+    let (mut positions, mut normals, mut triangles) = (
         std::mem::take(&mut t.positions),
+        std::mem::take(&mut t.normals),
         std::mem::take(&mut t.triangles),
     );
-    mesh.normals = Some(std::mem::take(&mut t.normals));
+    numbering.restore_vertex_order(&mut positions, &mut normals, &mut triangles);
+    let mut mesh = PolygonMesh::from_owned_triangles(positions, triangles);
+    mesh.normals = Some(normals);
     // The least patch id at each vertex, over the triangles in parallel: `fetch_min` gives
     // the same minimum in any order. One thread scattering 4.4 M updates into the bunny's
     // 731 k vertices at random took ~0.1 s, most of it waiting on memory.
@@ -376,10 +384,13 @@ pub(crate) fn write_atomic(path: &Path, text: &str) -> Result<(), BoxError> {
 
 /// A surface built on the input as `smooth` builds it, with what the report needs.
 pub(crate) struct Built {
-    /// The triangle mesh after repair.
+    /// The triangle mesh after repair, numbered as the surface was built on it (`numbering`).
     pub tri: TriMesh,
     /// The surface.
     pub surface: ApatchSurface,
+    /// How `tri` is numbered against the repaired mesh: ids shown to the user are mapped back
+    /// through it.
+    pub numbering: crate::numbering::Numbering,
     /// One line naming the repairs.
     pub repair_text: String,
     /// The repairs as JSON.
@@ -526,9 +537,12 @@ pub(crate) fn build(
     } else {
         ""
     };
-    let (surface, dt, faults) = measured("building the hull and the surface", progress, |p| {
-        ApatchSurface::with_progress(&tri, &normals, &options, p)
-    });
+    // On the spatial numbering (`numbering.rs`), falling back to `tri`'s own when that
+    // fails: `tri` is the mesh the surface was built on from here.
+    let ((surface, tri, numbering), dt, faults) =
+        measured("building the hull and the surface", progress, |p| {
+            crate::numbering::build_surface(tri, &normals, &options, p)
+        });
     (t.construction, t.faults.construction) = (dt, faults);
     // Before the error is read: a `Cancelled` one is the signal's doing.
     crate::interrupt::check()?;
@@ -554,6 +568,7 @@ pub(crate) fn build(
     Ok(Built {
         tri,
         surface,
+        numbering,
         repair_text,
         repair_json,
         timings: t,
@@ -620,6 +635,7 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
     let Built {
         mut tri,
         surface,
+        numbering,
         repair_text,
         repair_json,
         timings,
@@ -659,12 +675,12 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
     let hull_faces = surface.hull().mesh().face_count();
     // Faces of the input that pass through each other: the surface does there too (their
     // tetrahedra are left overlapping, see `SimplicialHull::distant_intersections`).
-    let crossings = surface.hull().input_crossings();
+    let crossings = numbering.repaired_faces(surface.hull().input_crossings());
 
     let (out_vertices, out_triangles) = (tess.positions.len(), tess.triangles.len());
     // Per-face patch ids and kinds only where the format stores face properties (PLY).
     let face_properties = algesurf_io::Format::from_path(&output) == Some(algesurf_io::Format::Ply);
-    let out_mesh = output_mesh(&mut tess, face_properties);
+    let out_mesh = output_mesh(&mut tess, &numbering, face_properties);
     let write_options = WriteOptions::default();
     // The check and the write at the same time: the write is mostly the kernel's (copying
     // into the page cache, `fsync`, and the rename freeing a replaced file's pages: 0.13 s and
@@ -746,7 +762,7 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
             "faces": tri.face_count(),
             "euler_characteristic": tri.euler_characteristic(),
         },
-        "adjusted_normals": surface.adjusted_normals(),
+        "adjusted_normals": numbering.repaired_vertices(surface.adjusted_normals()),
         "file_normals": {
             "replaced": &file_normals.0,
             "reversed": &file_normals.1,
@@ -850,7 +866,7 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
                 ids(reversed)
             );
         }
-        let adjusted = surface.adjusted_normals();
+        let adjusted = &numbering.repaired_vertices(surface.adjusted_normals());
         if !adjusted.is_empty() {
             // A normal at or past 84° from a face at its vertex is moved into its faces' cone
             // before the hull is built: say so, as the surface no longer has that normal

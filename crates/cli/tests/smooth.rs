@@ -610,6 +610,12 @@ fn a_sliver_face_is_named_as_such() {
     let mut positions = torus.positions().to_vec();
     let mid = (positions[b as usize] + positions[c as usize]) * 0.5;
     positions[a as usize] = mid + 1e-9 * (positions[a as usize] - mid);
+    // The command builds on the spatial numbering first, where this face is another: the
+    // error must come from its second build, on the input's numbering.
+    let sliver = algesurf_mesh::TriMesh::new(positions.clone(), torus.triangles().to_vec());
+    let order = algesurf_mesh::spatial_order::SpatialOrder::of(&sliver.unwrap());
+    let new_id = order.faces().iter().position(|&f| f == 0);
+    assert_ne!(new_id, Some(0), "face 0 is renumbered");
     let mesh = PolygonMesh::from_triangles(positions, torus.triangles());
     algesurf_io::write(
         dir.path().join("sliver.obj"),
@@ -623,6 +629,52 @@ fn a_sliver_face_is_named_as_such() {
     assert!(err.contains("(on input face 0)"), "{err}");
     assert!(err.contains("input face 0 is a sliver"), "{err}");
     assert!(!dir.path().join("out.ply").exists());
+}
+
+/// The command builds on the mesh renumbered in spatial order (`numbering.rs`), and gives
+/// the input's numbering back: the output's first vertices are the input's, in the input's
+/// order. The input here is an icosphere with its vertices and faces listed backwards, whose
+/// spatial order is another.
+#[test]
+fn the_output_starts_with_the_input_vertices_in_their_order() {
+    let dir = TempDir::new("smooth", "vertex-order");
+    let sphere = shapes::icosphere(2);
+    let n = sphere.vertex_count() as u32;
+    let positions: Vec<_> = sphere.positions().iter().rev().copied().collect();
+    let faces: Vec<[u32; 3]> = sphere
+        .triangles()
+        .iter()
+        .rev()
+        .map(|t| t.map(|v| n - 1 - v))
+        .collect();
+    let backwards = algesurf_mesh::TriMesh::new(positions, faces.clone()).unwrap();
+    let order = algesurf_mesh::spatial_order::SpatialOrder::of(&backwards);
+    assert!(
+        order.vertices().iter().zip(0..).any(|(&v, k)| v != k),
+        "the spatial order renumbers this mesh"
+    );
+    algesurf_io::write(
+        dir.path().join("backwards.obj"),
+        &PolygonMesh::from_triangles(backwards.positions().to_vec(), &faces),
+        &algesurf_io::WriteOptions::default(),
+    )
+    .unwrap();
+    let input = algesurf_io::read(dir.path().join("backwards.obj")).unwrap();
+    let out = algesurf(
+        dir.path(),
+        &[
+            "smooth",
+            "backwards.obj",
+            "-o",
+            "out.ply",
+            "--resolution",
+            "3",
+        ],
+    );
+    assert!(out.status.success(), "{}", text(&out));
+    let mesh = algesurf_io::read(dir.path().join("out.ply")).unwrap();
+    assert_eq!(&mesh.positions[..n as usize], &input.positions[..]);
+    assert_closed_manifold(&mesh);
 }
 
 /// File normals that `--normals file` does not take as given are reported, in the summary

@@ -80,6 +80,7 @@ pub mod primitives;
 pub mod radix;
 mod self_intersection;
 pub mod self_join;
+pub mod spatial_order;
 #[cfg(any(test, feature = "test-util"))]
 #[doc(hidden)]
 pub mod test_rng;
