@@ -34,6 +34,13 @@ use algesurf_mesh::spatial_order::SpatialOrder;
 use glam::DVec3;
 use rayon::prelude::*;
 
+/// The repaired mesh's id of vertex `v` of the built mesh, `old` the spatial order's
+/// [`SpatialOrder::vertices`]: ids past the repaired mesh's vertices (the hull's refinement
+/// vertices, a tessellation's ray points) are numbered alike in both and stay as they are.
+fn repaired_vertex(old: &[u32], v: u32) -> u32 {
+    old.get(v as usize).copied().unwrap_or(v)
+}
+
 /// How the mesh a surface was built on is numbered against the repaired mesh.
 #[derive(Debug, Default)]
 pub(crate) struct Numbering {
@@ -49,10 +56,7 @@ impl Numbering {
             return ids.to_vec();
         };
         let old = order.vertices();
-        let mut v: Vec<u32> = ids
-            .iter()
-            .map(|&i| old.get(i as usize).copied().unwrap_or(i))
-            .collect();
+        let mut v: Vec<u32> = ids.iter().map(|&i| repaired_vertex(old, i)).collect();
         v.sort_unstable();
         v
     }
@@ -66,7 +70,7 @@ impl Numbering {
             return at;
         };
         let old = order.vertices();
-        let vertex = |v: usize| old.get(v).map_or(v, |&o| o as usize);
+        let vertex = |v: usize| repaired_vertex(old, v as u32) as usize;
         let element = |e: Element| match e {
             Element::Vertex(v) => Element::Vertex(vertex(v)),
             e => e,
@@ -80,7 +84,7 @@ impl Numbering {
             },
             Location::TessellationVertex(v) => Location::TessellationVertex(vertex(v)),
             Location::TessellationEdge(a, b) => {
-                Location::TessellationEdge(vertex(a as usize) as u32, vertex(b as usize) as u32)
+                Location::TessellationEdge(repaired_vertex(old, a), repaired_vertex(old, b))
             }
             at @ Location::Euler { .. } => at,
         }
@@ -127,9 +131,7 @@ impl Numbering {
         }
         triangles.par_iter_mut().for_each(|t| {
             for v in t {
-                if let Some(&o) = old.get(*v as usize) {
-                    *v = o;
-                }
+                *v = repaired_vertex(old, *v);
             }
         });
     }

@@ -676,6 +676,8 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
     // Faces of the input that pass through each other: the surface does there too (their
     // tetrahedra are left overlapping, see `SimplicialHull::distant_intersections`).
     let crossings = numbering.repaired_faces(surface.hull().input_crossings());
+    // Vertices whose normals were moved into their faces' cone, in the repaired numbering.
+    let adjusted = numbering.repaired_vertices(surface.adjusted_normals());
 
     let (out_vertices, out_triangles) = (tess.positions.len(), tess.triangles.len());
     // Per-face patch ids and kinds only where the format stores face properties (PLY).
@@ -762,7 +764,7 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
             "faces": tri.face_count(),
             "euler_characteristic": tri.euler_characteristic(),
         },
-        "adjusted_normals": numbering.repaired_vertices(surface.adjusted_normals()),
+        "adjusted_normals": &adjusted,
         "file_normals": {
             "replaced": &file_normals.0,
             "reversed": &file_normals.1,
@@ -866,7 +868,6 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
                 ids(reversed)
             );
         }
-        let adjusted = &numbering.repaired_vertices(surface.adjusted_normals());
         if !adjusted.is_empty() {
             // A normal at or past 84° from a face at its vertex is moved into its faces' cone
             // before the hull is built: say so, as the surface no longer has that normal
@@ -875,7 +876,7 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
                 s,
                 "normals: {} adjusted into their faces' cone (vertices {})",
                 adjusted.len(),
-                ids(adjusted)
+                ids(&adjusted)
             );
         }
         if let Some([f, g]) = crossings.first() {

@@ -131,15 +131,11 @@ impl MortonGrid {
 /// ```
 pub fn morton_order(points: &[DVec3]) -> Vec<u32> {
     let grid = MortonGrid::around(points.iter().copied());
+    let keyed_at = |i: usize| (grid.code(points[i]), i as u32);
     let mut keyed: Vec<(u64, u32)> = if points.len() < crate::parallel::SERIAL_BELOW {
-        (0..points.len())
-            .map(|i| (grid.code(points[i]), i as u32))
-            .collect()
+        (0..points.len()).map(keyed_at).collect()
     } else {
-        (0..points.len())
-            .into_par_iter()
-            .map(|i| (grid.code(points[i]), i as u32))
-            .collect()
+        (0..points.len()).into_par_iter().map(keyed_at).collect()
     };
     // The radix sort: ids are numbered in order, so ties keep the order of ids.
     crate::radix::sort_pairs(&mut keyed);
