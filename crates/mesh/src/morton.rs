@@ -72,6 +72,13 @@ fn overlaps(a: &(DVec3, DVec3), lo: DVec3, hi: DVec3) -> bool {
     a.0.cmple(hi).all() && lo.cmple(a.1).all()
 }
 
+/// Whether the interiors of two boxes intersect: [`overlaps`] less the boxes that only touch
+/// (their intervals meet in one point along some axis), with which a plane `x_k = const`
+/// separates the two boxes' contents.
+fn interiors_overlap(a: &(DVec3, DVec3), lo: DVec3, hi: DVec3) -> bool {
+    a.0.cmplt(hi).all() && lo.cmplt(a.1).all()
+}
+
 /// Bits per axis of a Morton code: 21 × 3 fit in a `u64`.
 const MORTON_BITS: u32 = 21;
 
@@ -296,6 +303,60 @@ impl MortonBvh {
         f: impl Fn(usize, usize) -> Option<T> + Sync,
         progress: &dyn Progress,
     ) -> Result<Vec<T>, Cancelled> {
+        self.leaf_pairs(f, progress, overlaps)
+    }
+
+    /// [`MortonBvh::slot_pairs_with_progress`] for the pairs of boxes whose *interiors*
+    /// intersect: two boxes whose intervals along some axis meet in a single value (they touch
+    /// along a face, an edge or at a corner) are skipped, since a plane `x_k = const`
+    /// separates whatever they bound.
+    ///
+    /// For callers that only care about interiors: the hull's overlap check, where half the
+    /// candidate pairs are tetrahedra that share a vertex which is the highest of one and the
+    /// lowest of the other along some axis (2.84 M of the bunny's 5.33 M pairs).
+    ///
+    /// ```
+    /// use algesurf_mesh::morton::MortonBvh;
+    /// use glam::DVec3;
+    /// let unit = |o: DVec3| (o, o + DVec3::ONE);
+    /// // Two boxes touching along a face, one overlapping the first.
+    /// let tree = MortonBvh::new(vec![unit(DVec3::ZERO), unit(DVec3::X), unit(DVec3::splat(0.5))]);
+    /// let ids = |pairs: Vec<(usize, usize)>| {
+    ///     let mut ids: Vec<[u32; 2]> = pairs
+    ///         .into_iter()
+    ///         .map(|(a, b)| {
+    ///             let (a, b) = (tree.order()[a], tree.order()[b]);
+    ///             [a.min(b), a.max(b)]
+    ///         })
+    ///         .collect();
+    ///     ids.sort();
+    ///     ids
+    /// };
+    /// let none = algesurf_mesh::progress::NoProgress;
+    /// let closed = tree.slot_pairs_with_progress(|a, b| Some((a, b)), &none).unwrap();
+    /// let open = tree.interior_slot_pairs_with_progress(|a, b| Some((a, b)), &none).unwrap();
+    /// assert_eq!(ids(closed), vec![[0, 1], [0, 2], [1, 2]]);
+    /// assert_eq!(ids(open), vec![[0, 2], [1, 2]]);
+    /// ```
+    ///
+    /// # Errors
+    /// As [`MortonBvh::slot_pairs_with_progress`].
+    pub fn interior_slot_pairs_with_progress<T: Send>(
+        &self,
+        f: impl Fn(usize, usize) -> Option<T> + Sync,
+        progress: &dyn Progress,
+    ) -> Result<Vec<T>, Cancelled> {
+        self.leaf_pairs(f, progress, interiors_overlap)
+    }
+
+    /// The walk of [`MortonBvh::slot_pairs_with_progress`] with `hit` as the test of two
+    /// boxes (a function item, so each caller's loop gets its own test inlined).
+    fn leaf_pairs<T: Send>(
+        &self,
+        f: impl Fn(usize, usize) -> Option<T> + Sync,
+        progress: &dyn Progress,
+        hit: impl Fn(&(DVec3, DVec3), DVec3, DVec3) -> bool + Sync,
+    ) -> Result<Vec<T>, Cancelled> {
         if self.nodes.is_empty() {
             return Ok(Vec::new());
         }
@@ -314,7 +375,7 @@ impl MortonBvh {
                 // As `leaf_pair_rows` (whose iterator cost 6 M more instructions on spot).
                 let first = if same { a + 1 } else { rb.start };
                 for (b, bb) in (first..rb.end).zip(&self.sorted[first..rb.end]) {
-                    if overlaps(&ba, bb.0, bb.1)
+                    if hit(&ba, bb.0, bb.1)
                         && let Some(x) = f(a, b)
                     {
                         out.push(x);
@@ -489,6 +550,55 @@ mod tests {
                 expected.len()
             );
             assert_eq!(found, expected, "{leaf} boxes per leaf");
+        }
+    }
+
+    /// The interior walk finds exactly the pairs whose open boxes intersect, on boxes with
+    /// integer corners, where many pairs touch along a face, an edge or at a corner (as the
+    /// hull's tetrahedra around a shared vertex do), whatever the leaf size.
+    #[test]
+    fn interior_pairs_are_the_closed_pairs_less_those_that_only_touch() {
+        let mut rng = Lcg(99);
+        let mut cell = || (rng.next() * 6.0).floor();
+        let boxes: Vec<(DVec3, DVec3)> = (0..400)
+            .map(|_| {
+                let lo = DVec3::new(cell(), cell(), cell());
+                let size = DVec3::new(1.0 + cell() % 2.0, 1.0 + cell() % 2.0, 1.0);
+                (lo, lo + size)
+            })
+            .collect();
+        let brute = |test: fn(&(DVec3, DVec3), DVec3, DVec3) -> bool| {
+            let mut expected = Vec::new();
+            for i in 0..boxes.len() {
+                for j in i + 1..boxes.len() {
+                    if test(&boxes[i], boxes[j].0, boxes[j].1) {
+                        expected.push((i as u32, j as u32));
+                    }
+                }
+            }
+            expected
+        };
+        let (closed, open) = (brute(overlaps), brute(interiors_overlap));
+        assert!(
+            open.len() > 100 && closed.len() > open.len() + 100,
+            "the test needs both kinds of pair: {} closed, {} open",
+            closed.len(),
+            open.len()
+        );
+        for leaf in [1, 16, 1000] {
+            let bvh = MortonBvh::with_leaf_size(boxes.clone(), leaf);
+            let ids = |a: usize, b: usize| {
+                let (i, j) = (bvh.order()[a], bvh.order()[b]);
+                Some((i.min(j), i.max(j)))
+            };
+            let mut found_closed = bvh.slot_pairs_with_progress(ids, &NoProgress).unwrap();
+            let mut found_open = bvh
+                .interior_slot_pairs_with_progress(ids, &NoProgress)
+                .unwrap();
+            found_closed.sort_unstable();
+            found_open.sort_unstable();
+            assert_eq!(found_closed, closed, "{leaf} boxes per leaf");
+            assert_eq!(found_open, open, "{leaf} boxes per leaf");
         }
     }
 

@@ -155,7 +155,13 @@ impl SimplicialHull {
             })
             .unzip();
         let planes: Vec<FacePlanes> = verts.par_iter().map(FacePlanes::of).collect();
-        let pairs = bvh.slot_pairs_with_progress(
+        // Only pairs whose boxes share interior points: two tetrahedra whose boxes merely
+        // touch (meet in one value along an axis) are separated by that coordinate plane, so
+        // their interiors are disjoint and `depth_until` could only answer ≤ 0 up to its
+        // rounding (≤ 1e-17 on the bunny, against the tolerance's 1e-9), i.e. "touching".
+        // That is 2.84 M of the bunny's 5.33 M candidate pairs: tetrahedra sharing a vertex
+        // that is the highest of one and the lowest of the other along some axis.
+        let pairs = bvh.interior_slot_pairs_with_progress(
             |a, b| {
                 let (a, b) = if order[a] < order[b] { (a, b) } else { (b, a) };
                 // The pair's common box from the two boxes the tree holds: the same corners

@@ -441,19 +441,23 @@ impl Rounds {
         self,
         state: &mut RefineState,
     ) -> Result<(Vec<HullFace>, Vec<HullEdge>), HullError> {
+        // The overlap check's index (~92 MB on the bunny) is not needed any more: dropped
+        // before the final edge list is made, so that list takes the index's pages instead
+        // of fresh ones (docs/PERFORMANCE.md, twenty-fifth pass).
+        let Rounds { hull, index } = self;
+        drop(index);
         state.finish_round()?;
         let topo = state.mesh.topology();
         let edges: Vec<HullEdge> = (0..topo.edge_count() as u32)
             .into_par_iter()
             .map(|e| {
                 let k = topo.edge(e);
-                self.hull
-                    .edge(k)
+                hull.edge(k)
                     .expect("every edge of the refined mesh was built by some round")
                     .clone()
             })
             .collect();
-        let mut faces = self.hull.faces;
+        let mut faces = hull.faces;
         faces.par_iter_mut().enumerate().for_each(|(f, face)| {
             let first = topo.face_corners(f).start;
             face.edges = std::array::from_fn(|c| topo.corner_edge(first + c as u32));
