@@ -19,7 +19,10 @@
 //! the other put that drift into the ratio. Each turn's ratio is printed too.
 //!
 //! The mesh is `stanford-bunny.obj` from `$ALGESURF_CORPUS` (default `../shared/data`), or
-//! the path after `--mesh`. Prints both times and the ratio.
+//! the path after `--mesh`. Prints both times and the ratio, and each side's CPU time on all
+//! threads for its best run: algesurf's from its report (`cpu_s`), libigl's from Python's
+//! `time.process_time()` around the call (it runs on one core: its CPU time is its wall
+//! time), so that the ratio of wall times can be read with the cores each side used.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -99,9 +102,9 @@ NV, NF = igl.loop(V, F, levels)  # warm-up
 print(json.dumps({"faces": int(F.shape[0]), "levels": levels, "triangles": int(NF.shape[0]),
                   "vertices": int(NV.shape[0])}), flush=True)
 for _ in sys.stdin:
-    t = time.perf_counter()
+    t, c = time.perf_counter(), time.process_time()
     igl.loop(V, F, levels)
-    print(time.perf_counter() - t, flush=True)
+    print(time.perf_counter() - t, time.process_time() - c, flush=True)
 "#;
 
 /// libigl's Python process ([`IGL_SCRIPT`]), warmed up and waiting for its turns.
@@ -154,13 +157,21 @@ impl Igl {
         Ok(line.trim().to_owned())
     }
 
-    /// The seconds of one timed `igl.loop` call.
-    fn time(&mut self) -> Result<f64> {
+    /// The seconds of one timed `igl.loop` call: wall time and the Python process's CPU time
+    /// (all its threads) during it.
+    fn time(&mut self) -> Result<(f64, f64)> {
         use std::io::Write;
         writeln!(self.stdin, "go").map_err(|e| format!("libigl script: {e}"))?;
         let line = self.line()?;
-        line.parse()
-            .map_err(|e| format!("libigl script: {line:?} is not a time: {e}"))
+        let times: Vec<f64> = line
+            .split_whitespace()
+            .map(str::parse)
+            .collect::<std::result::Result<_, _>>()
+            .map_err(|e| format!("libigl script: {line:?} is not two times: {e}"))?;
+        match times[..] {
+            [wall, cpu] => Ok((wall, cpu)),
+            _ => Err(format!("libigl script: {line:?} is not two times")),
+        }
     }
 }
 
@@ -341,7 +352,8 @@ pub fn smooth(root: &Path, args: &[String]) -> Result<()> {
     // Turns: algesurf's run k (one process each, so every run pays its own page faults),
     // then libigl's call k (in its one warmed-up Python process).
     let mut ours: Vec<(f64, serde_json::Value)> = Vec::new();
-    let mut theirs: Vec<f64> = Vec::new();
+    // libigl's (wall, CPU) seconds per call.
+    let mut theirs: Vec<(f64, f64)> = Vec::new();
     if let Ok(report) = first {
         ours.push((total(&report)?, report));
     }
@@ -360,6 +372,11 @@ pub fn smooth(root: &Path, args: &[String]) -> Result<()> {
         let tris = report["output_mesh"]["triangles"].as_u64().unwrap_or(0);
         let points = report["output_mesh"]["vertices"].as_u64().unwrap_or(0);
         let faces_in = report["input_mesh"]["faces"].as_u64().unwrap_or(0);
+        // CPU seconds of the same two stages (Linux; absent elsewhere).
+        let cpu = report["cpu_s"]["construction"]
+            .as_f64()
+            .zip(report["cpu_s"]["tessellation"].as_f64())
+            .map(|(c, t)| c + t);
         println!("mesh: {} ({faces_in} faces after repair)", mesh.display());
         let runs: Vec<String> = ours.iter().map(|(t, _)| format!("{t:.3}")).collect();
         println!(
@@ -371,6 +388,13 @@ pub fn smooth(root: &Path, args: &[String]) -> Result<()> {
             points as f64 / tessellation / 1e6,
             construction + tessellation
         );
+        if let Some(cpu) = cpu {
+            println!(
+                "algesurf CPU time of the same run: {cpu:.2} s on all threads ({:.1} cores busy \
+                 on average)",
+                cpu / (construction + tessellation)
+            );
+        }
     }
     let Some(igl) = igl else {
         return if ours.is_empty() {
@@ -379,14 +403,20 @@ pub fn smooth(root: &Path, args: &[String]) -> Result<()> {
             Ok(())
         };
     };
-    let runs: Vec<String> = theirs.iter().map(|t| format!("{t:.3}")).collect();
-    let best_theirs = theirs.iter().copied().fold(f64::INFINITY, f64::min);
+    let runs: Vec<String> = theirs.iter().map(|t| format!("{:.3}", t.0)).collect();
+    let (best_theirs, best_cpu) =
+        theirs.iter().copied().fold(
+            (f64::INFINITY, f64::NAN),
+            |b, t| if t.0 < b.0 { t } else { b },
+        );
     println!(
         "libigl igl.loop(V, F, {levels}): {best_theirs:.3} s (best of {REPEATS}: {} s), {} \
-         triangles",
+         triangles; CPU time of the best call {best_cpu:.2} s ({:.1} cores busy on average)",
         runs.join(", "),
-        igl.header["triangles"]
+        igl.header["triangles"],
+        best_cpu / best_theirs
     );
+    let theirs: Vec<f64> = theirs.iter().map(|t| t.0).collect();
     if ours.is_empty() {
         return Err("algesurf smooth failed (see above)".into());
     }

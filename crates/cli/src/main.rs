@@ -7,6 +7,7 @@
 mod check;
 mod continuity;
 mod convert;
+mod cpu;
 mod deviation;
 mod grid;
 mod hints;

@@ -442,14 +442,14 @@ pub(crate) fn build(
     // Read and repair (the built-in mesh needs neither).
     let (tri, repair_text, repair_json) = match input {
         Some(path) => {
-            let (mesh, dt, faults) = measured("reading", progress, |_| crate::read_mesh(path));
-            (t.read, t.faults.read) = (dt, faults);
+            let (mesh, dt, usage) = measured("reading", progress, |_| crate::read_mesh(path));
+            (t.read, t.usage.read) = (dt, usage);
             crate::interrupt::check()?;
             let mesh = mesh?;
-            let (repaired, dt, faults) = measured("repairing", progress, |_| {
+            let (repaired, dt, usage) = measured("repairing", progress, |_| {
                 repair(&mesh, &RepairOptions::default())
             });
-            (t.repair, t.faults.repair) = (dt, faults);
+            (t.repair, t.usage.repair) = (dt, usage);
             crate::interrupt::check()?;
             let repaired =
                 repaired.map_err(|e| format!("{}: repair failed: {e}", path.display()))?;
@@ -503,10 +503,10 @@ pub(crate) fn build(
             *p -= origin;
         }
     }
-    let (normals, dt, faults) = measured("normals", progress, |_| {
+    let (normals, dt, usage) = measured("normals", progress, |_| {
         vertex_normals(&tri, args.normals.method())
     });
-    (t.normals, t.faults.normals) = (dt, faults);
+    (t.normals, t.usage.normals) = (dt, usage);
     crate::interrupt::check()?;
     let normals = normals.map_err(|e| {
         let hint = if args.normals == SmoothNormals::File {
@@ -539,11 +539,11 @@ pub(crate) fn build(
     };
     // On the spatial numbering (`numbering.rs`), falling back to `tri`'s own when that
     // fails: `tri` is the mesh the surface was built on from here.
-    let ((surface, tri, numbering), dt, faults) =
+    let ((surface, tri, numbering), dt, usage) =
         measured("building the hull and the surface", progress, |p| {
             crate::numbering::build_surface(tri, &normals, &options, p)
         });
-    (t.construction, t.faults.construction) = (dt, faults);
+    (t.construction, t.usage.construction) = (dt, usage);
     // Before the error is read: a `Cancelled` one is the signal's doing.
     crate::interrupt::check()?;
     let surface = surface.map_err(|e| match e {
@@ -656,10 +656,10 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
         .grid
         .fitting_steps(&surface)
         .map_err(|e| format!("{source}: {e}"))?;
-    let (tess, dt, faults) = measured("tessellating", progress, |p| {
+    let (tess, dt, usage) = measured("tessellating", progress, |p| {
         surface.tessellate_with_progress(n, m, p)
     });
-    (t.tessellation, t.faults.tessellation) = (dt, faults);
+    (t.tessellation, t.usage.tessellation) = (dt, usage);
     crate::interrupt::check()?;
     let mut tess =
         tess.map_err(|e| format!("{source}: cannot tessellate at resolution {n} × {m}: {e}"))?;
@@ -689,7 +689,7 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
     // 0.06 s of waiting on the bunny's 88 MB PLY, `strace -T`), the check computation on the
     // thread pool; one after the other they took 0.11 + 0.40 s there. The check reads the
     // output mesh's positions, the tessellation's moved there.
-    let ((checked, written), dt, faults) = measured("checking and writing", progress, |_| {
+    let ((checked, written), dt, usage) = measured("checking and writing", progress, |_| {
         std::thread::scope(|scope| {
             // Each part timed on its own (no spinner: the pair has one).
             let writer = scope.spawn(|| {
@@ -717,7 +717,7 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
     let (((deviation, diagonal), continuity), check_time) = checked;
     let (written, write_time) = written.map_err(|_| "the thread writing the output panicked")?;
     (t.check, t.write, t.check_and_write) = (check_time, write_time, dt);
-    t.faults.check_and_write = faults;
+    t.usage.check_and_write = usage;
     // A write that Ctrl-C stopped has removed its temporary file; one that finished stands,
     // and the command goes on to its report and summary.
     if written.is_err() {
@@ -726,15 +726,7 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
     written?;
     let total = total_start.elapsed().as_secs_f64();
     let peak = crate::memory::peak_resident_bytes();
-    let f = &t.faults;
-    let stage_faults = [
-        ("read", f.read),
-        ("repair", f.repair),
-        ("normals", f.normals),
-        ("construction", f.construction),
-        ("tessellation", f.tessellation),
-        ("check_and_write", f.check_and_write),
-    ];
+    let stage_usage = t.usage.named();
 
     let missed = tess.missed_rays.len();
     let multiple = tess.multiple_roots.len();
@@ -823,11 +815,17 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
         // Linux only (null elsewhere): see `memory.rs`.
         "memory": {
             "peak_resident_bytes": peak,
-            "minor_page_faults": stage_faults
+            "minor_page_faults": stage_usage
                 .iter()
-                .map(|&(k, v)| (k.to_string(), json!(v)))
+                .map(|&(k, u)| (k.to_string(), json!(u.faults)))
                 .collect::<serde_json::Map<_, _>>(),
         },
+        // CPU seconds of each stage, all threads (user + system; Linux only, null elsewhere:
+        // see `cpu.rs`): beside `timings_s`, how many cores a stage kept busy.
+        "cpu_s": stage_usage
+            .iter()
+            .map(|&(k, u)| (k.to_string(), json!(u.cpu)))
+            .collect::<serde_json::Map<_, _>>(),
     });
 
     let ms = |s: f64| format!("{:.1} ms", s * 1e3);
@@ -927,9 +925,9 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
             "n/a (no free parameters)".into()
         };
         if let Some(peak) = peak {
-            let faults: Vec<String> = stage_faults
+            let faults: Vec<String> = stage_usage
                 .iter()
-                .filter_map(|&(k, v)| Some(format!("{k} {}", v?)))
+                .filter_map(|&(k, u)| Some(format!("{k} {}", u.faults?)))
                 .collect();
             let _ = writeln!(
                 s,
@@ -937,6 +935,25 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
                 peak as f64 / 1e6,
                 faults.join(", ")
             );
+        }
+        // CPU seconds per stage, and for the timed pair the cores it kept busy on average.
+        let cpu: Vec<String> = stage_usage
+            .iter()
+            .filter_map(|&(k, u)| {
+                let cpu = u.cpu?;
+                let wall = match k {
+                    "construction" => t.construction,
+                    "tessellation" => t.tessellation,
+                    _ => return Some(format!("{k} {cpu:.2} s")),
+                };
+                Some(format!(
+                    "{k} {cpu:.2} s ({:.1} cores)",
+                    cpu / wall.max(1e-9)
+                ))
+            })
+            .collect();
+        if !cpu.is_empty() {
+            let _ = writeln!(s, "cpu (all threads): {}", cpu.join(", "));
         }
         let _ = writeln!(s, "min free-parameter margin: {margin_text}");
         let _ = writeln!(

@@ -1,4 +1,4 @@
-//! The commands' stages: each one timed, with its minor page faults, a progress display on
+//! The commands' stages: each one timed, with its minor page faults and CPU time, a progress display on
 //! stderr (the stage, its current step and that step's count) when it runs longer than a
 //! second, and a sink that Ctrl-C cancels ([`crate::interrupt`]).
 
@@ -23,34 +23,63 @@ pub(crate) struct Timings {
     pub(crate) write: f64,
     /// The check and the write together, from the start of both to the end of the later.
     pub(crate) check_and_write: f64,
-    /// Page faults per stage.
-    pub(crate) faults: StageFaults,
+    /// Page faults and CPU time per stage.
+    pub(crate) usage: StageUsage,
 }
 
-/// Minor page faults of each stage ([`crate::memory`]), `None` where they cannot be read.
+/// What one stage cost the process besides wall time: its minor page faults
+/// ([`crate::memory::minor_faults`]) and CPU seconds, all threads together
+/// ([`crate::cpu::cpu_ticks`]); each `None` where it cannot be read.
+#[derive(Debug, Default, Clone, Copy)]
+pub(crate) struct Usage {
+    pub(crate) faults: Option<u64>,
+    pub(crate) cpu: Option<f64>,
+}
+
+/// The [`Usage`] of each stage.
 #[derive(Debug, Default, Clone)]
-pub(crate) struct StageFaults {
-    pub(crate) read: Option<u64>,
-    pub(crate) repair: Option<u64>,
-    pub(crate) normals: Option<u64>,
-    pub(crate) construction: Option<u64>,
-    pub(crate) tessellation: Option<u64>,
+pub(crate) struct StageUsage {
+    pub(crate) read: Usage,
+    pub(crate) repair: Usage,
+    pub(crate) normals: Usage,
+    pub(crate) construction: Usage,
+    pub(crate) tessellation: Usage,
     /// The check and the write, which run at the same time (the counts are the process's).
-    pub(crate) check_and_write: Option<u64>,
+    pub(crate) check_and_write: Usage,
 }
 
-/// [`stage`], also counting the minor page faults the process took during it.
+impl StageUsage {
+    /// The stages by their report names, in order.
+    pub(crate) fn named(&self) -> [(&'static str, Usage); 6] {
+        [
+            ("read", self.read),
+            ("repair", self.repair),
+            ("normals", self.normals),
+            ("construction", self.construction),
+            ("tessellation", self.tessellation),
+            ("check_and_write", self.check_and_write),
+        ]
+    }
+}
+
+/// [`stage`], also counting the minor page faults and the CPU time the process took during
+/// it.
 pub(crate) fn measured<T>(
     name: &str,
     progress: bool,
     f: impl FnOnce(&dyn Progress) -> T,
-) -> (T, f64, Option<u64>) {
-    let before = crate::memory::minor_faults();
+) -> (T, f64, Usage) {
+    let (faults, cpu) = (crate::memory::minor_faults(), crate::cpu::cpu_ticks());
     let (r, dt) = stage(name, progress, f);
-    let faults = before
-        .zip(crate::memory::minor_faults())
-        .map(|(a, b)| b.saturating_sub(a));
-    (r, dt, faults)
+    let usage = Usage {
+        faults: faults
+            .zip(crate::memory::minor_faults())
+            .map(|(a, b)| b.saturating_sub(a)),
+        cpu: cpu
+            .zip(crate::cpu::cpu_ticks())
+            .map(|(a, b)| crate::cpu::seconds_between(a, b)),
+    };
+    (r, dt, usage)
 }
 
 /// How often the progress display reads the stage's counter and redraws.

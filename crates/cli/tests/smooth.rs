@@ -270,8 +270,21 @@ fn icosphere_with_sphere_normals_gives_the_sphere() {
             );
         }
         assert!(text(&out).contains("memory: peak "), "{}", text(&out));
+        // CPU seconds per stage, in 10 ms ticks (this mesh's stages can take less than one:
+        // `cpu.rs` tests that the time is counted).
+        let cpu: Vec<f64> = stages
+            .iter()
+            .map(|stage| {
+                json["cpu_s"][stage]
+                    .as_f64()
+                    .unwrap_or_else(|| panic!("cpu_s.{stage}"))
+            })
+            .collect();
+        assert!(cpu.iter().all(|&c| c >= 0.0 && c < 60.0), "{cpu:?}");
+        assert!(text(&out).contains("cpu (all threads): "), "{}", text(&out));
     } else {
         assert!(memory["peak_resident_bytes"].is_null());
+        assert!(stages.iter().all(|stage| json["cpu_s"][stage].is_null()));
     }
     assert!(
         json["free_parameters"]["min_relative_margin"]
