@@ -280,7 +280,7 @@ fn icosphere_with_sphere_normals_gives_the_sphere() {
                     .unwrap_or_else(|| panic!("cpu_s.{stage}"))
             })
             .collect();
-        assert!(cpu.iter().all(|&c| c >= 0.0 && c < 60.0), "{cpu:?}");
+        assert!(cpu.iter().all(|c| (0.0..60.0).contains(c)), "{cpu:?}");
         assert!(text(&out).contains("cpu (all threads): "), "{}", text(&out));
     } else {
         assert!(memory["peak_resident_bytes"].is_null());
