@@ -1,31 +1,20 @@
 //! The process's CPU time, for `smooth`'s summary and report: how many cores a stage kept
 //! busy, beside its wall time (`cpu_s` beside `timings_s`). Read from Linux's `/proc`; `None`
-//! on other systems or when it cannot be read.
+//! on other systems or when it cannot be read ([`crate::memory::process_counters`]).
 //!
 //! Why it is reported: the benchmarks compare wall times on a 2-core machine, and a peer can
 //! run on one core (libigl's `igl.loop` does: its CPU time equals its wall time) while the
 //! construction runs on both; the CPU seconds say which.
 
-/// Clock ticks per second of `/proc/self/stat`'s times: the kernel reports them in `USER_HZ`,
-/// which is 100 on every architecture but Alpha (`sysconf(_SC_CLK_TCK)` returns the same
-/// constant; reading it would be an FFI call for a number the ABI fixes). So the times have a
-/// resolution of 10 ms: ±1 % of a one-second stage.
+/// Clock ticks per second of `/proc/self/stat`'s times ([`crate::memory::ProcessCounters`]):
+/// the kernel reports them in `USER_HZ`, which is 100 on every architecture but Alpha
+/// (`sysconf(_SC_CLK_TCK)` returns the same constant; reading it would be an FFI call for a
+/// number the ABI fixes). So the times have a resolution of 10 ms: ±1 % of a one-second
+/// stage.
 const USER_HZ: f64 = 100.0;
 
-/// CPU time (user + system) of the whole process so far, all its threads together,
-/// including those that have ended, in clock ticks: fields 14 and 15 of `/proc/self/stat`.
-pub(crate) fn cpu_ticks() -> Option<u64> {
-    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
-    // The command name (field 2) is in parentheses and may hold spaces: count after it
-    // (field 3 is the first there, so fields 14 and 15 are the 12th and 13th).
-    let (_, rest) = stat.rsplit_once(')')?;
-    let mut fields = rest.split_whitespace().skip(11);
-    let user: u64 = fields.next()?.parse().ok()?;
-    let system: u64 = fields.next()?.parse().ok()?;
-    Some(user + system)
-}
-
-/// The seconds between two readings of [`cpu_ticks`] (`0` if the second is not later).
+/// The seconds between two readings of [`crate::memory::ProcessCounters::cpu_ticks`] (`0` if
+/// the second is not later).
 pub(crate) fn seconds_between(before: u64, after: u64) -> f64 {
     after.saturating_sub(before) as f64 / USER_HZ
 }
@@ -41,7 +30,8 @@ mod tests {
     /// scheduler can interrupt leave it a little below the wall time at worst.
     #[test]
     fn a_busy_thread_shows_as_cpu_time() {
-        let before = cpu_ticks();
+        let ticks = || crate::memory::process_counters().map(|c| c.cpu_ticks);
+        let before = ticks();
         if !cfg!(target_os = "linux") {
             assert_eq!(before, None);
             return;
@@ -56,7 +46,7 @@ mod tests {
             x
         });
         busy.join().expect("the busy thread");
-        let spent = seconds_between(before, cpu_ticks().unwrap());
+        let spent = seconds_between(before, ticks().unwrap());
         assert!(spent >= 0.25, "{spent} s of CPU for 0.3 s of busy work");
     }
 }

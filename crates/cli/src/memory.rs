@@ -1,5 +1,6 @@
 //! The process's memory figures for `smooth`'s summary and report: minor page faults (the
-//! kernel mapping a fresh zeroed page on first touch) and the peak resident size; and the
+//! kernel mapping a fresh zeroed page on first touch, read with the CPU time in
+//! [`ProcessCounters`]) and the peak resident size; and the
 //! memory the system has available, which `--resolution` is checked against
 //! ([`crate::grid::check_memory`]). Read from Linux's `/proc`; `None` on other systems or when
 //! it cannot be read.
@@ -8,12 +9,35 @@
 //! costs about 3.5 µs, and the bunny's command takes ~170 k of them (docs/PERFORMANCE.md,
 //! "Construction, sixth pass"), so a stage's faults explain much of its time.
 
-/// Minor page faults of the whole process so far (field 10 of `/proc/self/stat`, all threads).
-pub(crate) fn minor_faults() -> Option<u64> {
+/// The process's counters that `/proc/self/stat` holds, for all its threads so far (those
+/// that have ended included), read together so that a stage's before and after each cost one
+/// read of the file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct ProcessCounters {
+    /// Minor page faults (field 10).
+    pub(crate) minor_faults: u64,
+    /// CPU time, user + system (fields 14 and 15), in clock ticks ([`crate::cpu`]).
+    pub(crate) cpu_ticks: u64,
+}
+
+/// The [`ProcessCounters`] now.
+pub(crate) fn process_counters() -> Option<ProcessCounters> {
     let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
-    // The command name (field 2) is in parentheses and may hold spaces: count after it.
+    // The command name (field 2) is in parentheses and may hold spaces: count after it
+    // (field 3 is the first there, so field k is the (k − 2)th).
     let (_, rest) = stat.rsplit_once(')')?;
-    rest.split_whitespace().nth(7)?.parse().ok()
+    let mut fields = rest.split_whitespace();
+    let minor_faults = fields.nth(7)?.parse().ok()?;
+    let mut field = || fields.next()?.parse::<u64>().ok();
+    // Fields 11–13 (child faults, major faults) before the times.
+    for _ in 0..3 {
+        field()?;
+    }
+    let (user, system) = (field()?, field()?);
+    Some(ProcessCounters {
+        minor_faults,
+        cpu_ticks: user + system,
+    })
 }
 
 /// The peak resident set size in bytes (`VmHWM` of `/proc/self/status`).
@@ -41,7 +65,8 @@ mod tests {
     /// elsewhere both are `None`).
     #[test]
     fn first_touch_shows_as_faults_and_peak() {
-        let (before, peak) = (minor_faults(), peak_resident_bytes());
+        let faults = || process_counters().map(|c| c.minor_faults);
+        let (before, peak) = (faults(), peak_resident_bytes());
         if !cfg!(target_os = "linux") {
             assert_eq!((before, peak), (None, None));
             return;
@@ -50,7 +75,7 @@ mod tests {
         let bytes = 64 << 20;
         let v = vec![1u8; bytes];
         assert_eq!(v.iter().map(|&x| x as usize).sum::<usize>(), bytes);
-        let after = minor_faults().unwrap();
+        let after = faults().unwrap();
         // Transparent huge pages can back it with 2 MiB pages: 32 faults at least.
         assert!(after - before >= 32, "{before} → {after}");
         assert!(peak_resident_bytes().unwrap() >= bytes as u64);

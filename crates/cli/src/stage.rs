@@ -1,6 +1,6 @@
-//! The commands' stages: each one timed, with its minor page faults and CPU time, a progress display on
-//! stderr (the stage, its current step and that step's count) when it runs longer than a
-//! second, and a sink that Ctrl-C cancels ([`crate::interrupt`]).
+//! The commands' stages: each one timed, with its minor page faults and CPU time, a progress
+//! display on stderr (the stage, its current step and that step's count) when it runs longer
+//! than a second, and a sink that Ctrl-C cancels ([`crate::interrupt`]).
 
 use crate::interrupt::Interruptible;
 use algesurf_mesh::progress::{NoProgress, Progress, ProgressCounter, ProgressSnapshot};
@@ -27,9 +27,9 @@ pub(crate) struct Timings {
     pub(crate) usage: StageUsage,
 }
 
-/// What one stage cost the process besides wall time: its minor page faults
-/// ([`crate::memory::minor_faults`]) and CPU seconds, all threads together
-/// ([`crate::cpu::cpu_ticks`]); each `None` where it cannot be read.
+/// What one stage cost the process besides wall time: its minor page faults and CPU seconds,
+/// all threads together ([`crate::memory::ProcessCounters`]); each `None` where they cannot
+/// be read.
 #[derive(Debug, Default, Clone, Copy)]
 pub(crate) struct Usage {
     pub(crate) faults: Option<u64>,
@@ -69,15 +69,12 @@ pub(crate) fn measured<T>(
     progress: bool,
     f: impl FnOnce(&dyn Progress) -> T,
 ) -> (T, f64, Usage) {
-    let (faults, cpu) = (crate::memory::minor_faults(), crate::cpu::cpu_ticks());
+    let before = crate::memory::process_counters();
     let (r, dt) = stage(name, progress, f);
+    let counters = before.zip(crate::memory::process_counters());
     let usage = Usage {
-        faults: faults
-            .zip(crate::memory::minor_faults())
-            .map(|(a, b)| b.saturating_sub(a)),
-        cpu: cpu
-            .zip(crate::cpu::cpu_ticks())
-            .map(|(a, b)| crate::cpu::seconds_between(a, b)),
+        faults: counters.map(|(a, b)| b.minor_faults.saturating_sub(a.minor_faults)),
+        cpu: counters.map(|(a, b)| crate::cpu::seconds_between(a.cpu_ticks, b.cpu_ticks)),
     };
     (r, dt, usage)
 }
