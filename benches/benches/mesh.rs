@@ -2,7 +2,8 @@
 //! 150 ms on the 2-core machine; BVH build, self-intersections and their self-join, and 1 M
 //! closest-point queries).
 //! Run: `cargo bench -p algesurf-benches --bench mesh`. Reads the bunny from
-//! `ALGESURF_CORPUS` (default `../shared/data`); without it, an icosphere of similar size
+//! `ALGESURF_CORPUS` (default `../shared/data`; a relative path is taken from the workspace
+//! root, as in the tests); without it, an icosphere of similar size
 //! stands in and the output says so.
 
 use algesurf::io;
@@ -19,7 +20,7 @@ fn main() {
 
 fn bunny_path() -> Option<PathBuf> {
     let dir = std::env::var_os("ALGESURF_CORPUS")
-        .map(PathBuf::from)
+        .map(|dir| algesurf_mesh::test_corpus::resolve(std::path::Path::new(&dir)))
         .unwrap_or_else(|| {
             PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shared/data"))
         });

@@ -90,7 +90,8 @@ fn corpus_mesh(bench: &str, name: &str) -> Option<(TriMesh, Vec<DVec3>)> {
         eprintln!("{bench}: set ALGESURF_CORPUS to the corpus directory");
         return None;
     };
-    let path = std::path::Path::new(&dir).join(format!("{name}.obj"));
+    let path =
+        algesurf_mesh::test_corpus::resolve(std::path::Path::new(&dir)).join(format!("{name}.obj"));
     let poly = algesurf::io::read(&path).expect("corpus mesh");
     let repaired =
         algesurf::mesh::repair(&poly, &algesurf::mesh::RepairOptions::default()).expect("repair");

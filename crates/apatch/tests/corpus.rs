@@ -21,16 +21,9 @@ use std::time::Instant;
 
 #[test]
 fn every_corpus_mesh_smooths_and_passes_the_battery() {
-    let Some(dir) = std::env::var_os("ALGESURF_CORPUS") else {
-        println!("skipped: ALGESURF_CORPUS unset");
+    let Some(paths) = algesurf_mesh::test_corpus::corpus_files() else {
         return;
     };
-    let mut paths: Vec<_> = std::fs::read_dir(&dir)
-        .unwrap()
-        .filter_map(|e| e.ok())
-        .map(|e| e.path())
-        .collect();
-    paths.sort();
     println!(
         "{:<22} {:>7} {:>8} {:>9} {:>8} {:>8} {:>11} {:>11}",
         "mesh", "faces", "patches", "triangles", "build s", "check s", "hausdorff", "min margin"

@@ -375,11 +375,10 @@ fn bad_input_fails_naming_the_file() {
 /// unset.)
 #[test]
 fn a_mesh_of_thin_faces_stops_at_the_overlap_bound_and_says_why() {
-    let Some(corpus) = std::env::var_os("ALGESURF_CORPUS") else {
-        println!("skipped: ALGESURF_CORPUS unset");
+    let Some(corpus) = algesurf_mesh::test_corpus::corpus_dir() else {
         return;
     };
-    let spot = std::path::Path::new(&corpus).join("spot.obj");
+    let spot = corpus.join("spot.obj");
     let spot = spot.to_str().expect("a UTF-8 corpus path");
     let dir = TempDir::new("smooth", "thin-faces");
     let out = algesurf(

@@ -13,11 +13,8 @@ use algesurf_mesh::{
 };
 
 fn corpus_mesh(name: &str) -> Option<TriMesh> {
-    let Some(dir) = std::env::var_os("ALGESURF_CORPUS") else {
-        println!("skipped: ALGESURF_CORPUS unset");
-        return None;
-    };
-    let poly = algesurf_io::read(std::path::Path::new(&dir).join(name)).unwrap();
+    let dir = algesurf_mesh::test_corpus::corpus_dir()?;
+    let poly = algesurf_io::read(dir.join(name)).unwrap();
     let repaired = repair(&poly, &RepairOptions::default()).unwrap().mesh;
     Some(TriMesh::from_polygon_mesh(&repaired).unwrap())
 }

@@ -38,8 +38,6 @@
 //! counts. The script is `tests/corpus_reference.py`; rerun it with
 //! `python corpus_reference.py ../shared/data` in a venv with numpy and libigl.
 
-use std::path::PathBuf;
-
 use std::collections::HashSet;
 
 use algesurf_mesh::{Finding, PolygonMesh, RepairOptions, TriMesh, repair, validate};
@@ -204,17 +202,11 @@ fn weld_only() -> RepairOptions {
 
 #[test]
 fn corpus_loads_validates_and_repairs() {
-    let Some(dir) = std::env::var_os("ALGESURF_CORPUS") else {
-        println!("skipped: ALGESURF_CORPUS unset");
+    let Some(mut files) = algesurf_mesh::test_corpus::corpus_files() else {
         return;
     };
-    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .expect("ALGESURF_CORPUS is a readable folder")
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| algesurf_io::Format::from_path(p).is_some())
-        .collect();
-    files.sort();
-    assert!(!files.is_empty(), "no mesh files in {dir:?}");
+    files.retain(|p| algesurf_io::Format::from_path(p).is_some());
+    assert!(!files.is_empty(), "no mesh files in the corpus folder");
     let mut seen_teapot = false;
     let mut seen_bunny = false;
     for path in &files {

@@ -73,12 +73,10 @@ fn agrees_with_tobj_on_generated_files() {
 
 #[test]
 fn agrees_with_tobj_on_the_corpus() {
-    let Some(dir) = std::env::var_os("ALGESURF_CORPUS") else {
-        println!("skipped: ALGESURF_CORPUS unset");
+    let Some(files) = algesurf_mesh::test_corpus::corpus_files() else {
         return;
     };
-    for entry in std::fs::read_dir(dir).unwrap() {
-        let path = entry.unwrap().path();
+    for path in files {
         if path
             .extension()
             .is_some_and(|e| e.eq_ignore_ascii_case("obj"))

@@ -83,6 +83,9 @@ pub mod self_join;
 pub mod spatial_order;
 #[cfg(any(test, feature = "test-util"))]
 #[doc(hidden)]
+pub mod test_corpus;
+#[cfg(any(test, feature = "test-util"))]
+#[doc(hidden)]
 pub mod test_rng;
 pub use bvh::{BoxBvh, ClosestPoint, RayHit, TriangleBvh};
 pub use self_intersection::{SELF_INTERSECTION_TOLERANCE, self_intersections};
