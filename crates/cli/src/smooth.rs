@@ -678,6 +678,10 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
     let crossings = numbering.repaired_faces(surface.hull().input_crossings());
     // Vertices whose normals were moved into their faces' cone, in the repaired numbering.
     let adjusted = numbering.repaired_vertices(surface.adjusted_normals());
+    // A build on the spatial numbering that failed before this one (`numbering.rs`): its time
+    // is part of construction's, so the summary and the report say so.
+    let spatial = numbering.is_spatial();
+    let spatial_failure = numbering.spatial_failure().cloned();
 
     let (out_vertices, out_triangles) = (tess.positions.len(), tess.triangles.len());
     // Per-face patch ids and kinds only where the format stores face properties (PLY).
@@ -767,6 +771,15 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
             "refinements": refinements,
             "refinement_rounds": rounds,
             "input_crossings": crossings.len(),
+        },
+        // The numbering the surface was built on (`numbering.rs`): the spatial order, or the
+        // repaired mesh's own after a failed build on the spatial order (its error and time).
+        "numbering": {
+            "spatial": spatial,
+            "spatial_failure": spatial_failure.as_ref().map(|f| json!({
+                "error": f.error,
+                "seconds": f.seconds,
+            })),
         },
         "patches": {
             "face": counts.face,
@@ -875,6 +888,15 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
                 "normals: {} adjusted into their faces' cone (vertices {})",
                 adjusted.len(),
                 ids(&adjusted)
+            );
+        }
+        if let Some(failure) = &spatial_failure {
+            let _ = writeln!(
+                s,
+                "numbering: the build on the spatial numbering failed after {} (its error is \
+                 in the report, `numbering.spatial_failure`); built again on the mesh's own \
+                 numbering, which succeeded (construction's time includes both)",
+                ms(failure.seconds)
             );
         }
         if let Some([f, g]) = crossings.first() {
