@@ -19,11 +19,8 @@ fn main() {
 }
 
 fn bunny_path() -> Option<PathBuf> {
-    let dir = std::env::var_os("ALGESURF_CORPUS")
-        .map(|dir| algesurf_mesh::test_corpus::resolve(std::path::Path::new(&dir)))
-        .unwrap_or_else(|| {
-            PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shared/data"))
-        });
+    let given = std::env::var_os("ALGESURF_CORPUS").unwrap_or_else(|| "../shared/data".into());
+    let dir = algesurf_mesh::test_corpus::resolve(std::path::Path::new(&given));
     let p = dir.join("stanford-bunny.obj");
     p.is_file().then_some(p)
 }

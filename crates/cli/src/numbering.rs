@@ -20,7 +20,7 @@
 //!   faces and edges, as before ([`build_surface`]). The failed build is not hidden: the
 //!   summary and the report say why it failed and how long it took
 //!   ([`Numbering::spatial_failure`]), since construction's time includes it (Suzanne's hull
-//!   on the spatial numbering still overlaps after 24 refinement rounds, ~0.9 s of its
+//!   on the spatial numbering still overlaps after 24 refinement rounds, ~0.7 s of its
 //!   1.5 s construction, where its own numbering's separates in 17);
 //! * the output's first vertices are the repaired mesh's, in its order
 //!   ([`Numbering::restore_vertex_order`]).

@@ -15,23 +15,15 @@ fn workspace_root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
 }
 
-/// `dir` as given when absolute, otherwise taken from the workspace root: the rule of
-/// [`corpus_dir`], for the benches, which read the variable with their own default.
+/// `dir` as given when absolute, otherwise taken from the workspace root (`Path::join` keeps
+/// an absolute argument as it is): the rule of [`corpus_dir`], for the benches, which read
+/// the variable with their own default.
 pub fn resolve(dir: &Path) -> PathBuf {
-    resolve_against(dir, &workspace_root())
+    workspace_root().join(dir)
 }
 
-/// `dir` as given when absolute, otherwise joined to `root`.
-fn resolve_against(dir: &Path, root: &Path) -> PathBuf {
-    if dir.is_absolute() {
-        dir.to_path_buf()
-    } else {
-        root.join(dir)
-    }
-}
-
-/// The corpus folder (canonical), or `None` after printing "skipped: ALGESURF_CORPUS unset" when the
-/// variable is not set. A relative path is taken from the workspace root.
+/// The corpus folder (canonical), or `None` after printing "skipped: ALGESURF_CORPUS unset"
+/// when the variable is not set. A relative path is taken from the workspace root.
 ///
 /// # Panics
 /// When the variable is set but names no folder: a corpus test asked to run must not pass by
@@ -76,15 +68,11 @@ mod tests {
 
     #[test]
     fn relative_paths_are_taken_from_the_workspace_root() {
-        let root = Path::new("/ws");
         assert_eq!(
-            resolve_against(Path::new("../shared/data"), root),
-            Path::new("/ws/../shared/data")
+            resolve(Path::new("../shared/data")),
+            workspace_root().join("../shared/data")
         );
-        assert_eq!(
-            resolve_against(Path::new("/abs/data"), root),
-            Path::new("/abs/data")
-        );
+        assert_eq!(resolve(Path::new("/abs/data")), Path::new("/abs/data"));
     }
 
     #[test]
