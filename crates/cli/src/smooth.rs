@@ -958,7 +958,8 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
                 faults.join(", ")
             );
         }
-        // CPU seconds per stage, and for the timed pair the cores it kept busy on average.
+        // CPU seconds per stage, and for the timed pair the cores it kept busy on average
+        // (when the stage is long enough for the 10 ms ticks: `cpu::cores_busy`).
         let cpu: Vec<String> = stage_usage
             .iter()
             .filter_map(|&(k, u)| {
@@ -968,10 +969,10 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
                     "tessellation" => t.tessellation,
                     _ => return Some(format!("{k} {cpu:.2} s")),
                 };
-                Some(format!(
-                    "{k} {cpu:.2} s ({:.1} cores)",
-                    cpu / wall.max(1e-9)
-                ))
+                Some(match crate::cpu::cores_busy(cpu, wall) {
+                    Some(cores) => format!("{k} {cpu:.2} s ({cores:.1} cores)"),
+                    None => format!("{k} {cpu:.2} s"),
+                })
             })
             .collect();
         if !cpu.is_empty() {
