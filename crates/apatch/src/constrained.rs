@@ -674,35 +674,65 @@ fn dense_solve(
 /// `z` of `A W^{−1/2} z = r − A t̄` by [`RowBasis`], `y = t̄ + W^{−1/2} z` (see
 /// [`nearest_solution`]), refined twice.
 fn nearest_classes(a_mat: &[f64], rhs: &[f64], inv_sqrt_w: &[f64], mean: Vec<f64>) -> Vec<f64> {
-    let (m, nf) = (rhs.len(), inv_sqrt_w.len());
-    let residual_of = |y: &[f64]| -> Vec<f64> {
-        (0..m)
-            .map(|i| {
+    let mut y = mean;
+    DenseScratch::default().nearest_classes(a_mat, rhs, inv_sqrt_w, &mut y);
+    y
+}
+
+/// The buffers of [`nearest_classes`], kept from one solve to the next by the split faces'
+/// replay ([`plan::solve`]): ~16 vectors a face otherwise, a third of the bunny's allocations
+/// (`docs/PERFORMANCE.md`, twenty-seventh pass).
+#[derive(Debug, Default)]
+pub(crate) struct DenseScratch {
+    scaled: Vec<f64>,
+    basis: RowBasis,
+    residual: Vec<f64>,
+    z: Vec<f64>,
+    step: Vec<f64>,
+}
+
+impl DenseScratch {
+    /// [`nearest_classes`] with `y` holding the means on entry and the values on return, in
+    /// this scratch's buffers: the same operations in the same order, so the same bits.
+    pub(crate) fn nearest_classes(
+        &mut self,
+        a_mat: &[f64],
+        rhs: &[f64],
+        inv_sqrt_w: &[f64],
+        y: &mut [f64],
+    ) {
+        let (m, nf) = (rhs.len(), inv_sqrt_w.len());
+        let residual_of = |y: &[f64], out: &mut Vec<f64>| {
+            out.clear();
+            out.extend((0..m).map(|i| {
                 let row = &a_mat[i * nf..(i + 1) * nf];
                 rhs[i] - row.iter().zip(y).map(|(a, b)| a * b).sum::<f64>()
-            })
-            .collect()
-    };
-    let mut scaled = a_mat.to_vec();
-    for row in scaled.chunks_exact_mut(nf.max(1)) {
-        for (a, s) in row.iter_mut().zip(inv_sqrt_w) {
-            *a *= s;
+            }));
+        };
+        self.scaled.clear();
+        self.scaled.extend_from_slice(a_mat);
+        for row in self.scaled.chunks_exact_mut(nf.max(1)) {
+            for (a, s) in row.iter_mut().zip(inv_sqrt_w) {
+                *a *= s;
+            }
+        }
+        // Rank cut at 1e-10 of the largest row norm: the constraint rows repeat conditions
+        // (C1 rows implied by others around the apex), so exactly dependent rows appear
+        // (their residual after projection is ~1e-16); rows are O(1) and the column scales in
+        // [1/√6, 1].
+        self.basis.factor(&self.scaled, m, nf, 1e-10);
+        // y = t̄ + W^{−1/2} A_s⁺ (r − A t̄), then two steps of iterative refinement: each
+        // reduces the constraint residual by the solver's relative accuracy again, ending at
+        // rounding level.
+        for _ in 0..3 {
+            residual_of(y, &mut self.residual);
+            self.basis
+                .solve_into(&self.residual, &mut self.z, &mut self.step);
+            for ((x, s), w) in y.iter_mut().zip(&self.step).zip(inv_sqrt_w) {
+                *x += s * w;
+            }
         }
     }
-    // Rank cut at 1e-10 of the largest row norm: the constraint rows repeat conditions (C1
-    // rows implied by others around the apex), so exactly dependent rows appear (their
-    // residual after projection is ~1e-16); rows are O(1) and the column scales in [1/√6, 1].
-    let basis = RowBasis::new(&scaled, m, nf, 1e-10);
-    // y = t̄ + W^{−1/2} A_s⁺ (r − A t̄), then two steps of iterative refinement: each reduces
-    // the constraint residual by the solver's relative accuracy again, ending at rounding level.
-    let mut y = mean;
-    for _ in 0..3 {
-        let step = basis.solve(&residual_of(&y));
-        for ((x, s), w) in y.iter_mut().zip(step).zip(inv_sqrt_w) {
-            *x += s * w;
-        }
-    }
-    y
 }
 
 impl System {
@@ -738,7 +768,8 @@ impl System {
 
 #[cfg(test)]
 mod tests {
-    use super::{System, nearest_solution};
+    use super::{DenseScratch, System, nearest_solution};
+    use algesurf_mesh::test_rng::Lcg;
 
     /// A system with `x1 = x2` given as an equal pair or as the row `x1 − x2 = 0`; `x1` fixed
     /// at `fixed1` and, if given, `x2` at `fixed2`.
@@ -787,5 +818,53 @@ mod tests {
         let (x, r, _) = nearest_solution(&with_equality(true, 3.0, Some(3.5)), &target, true);
         assert_eq!((x[1], x[2]), (3.0, 3.5));
         assert_eq!(r, 0.5 / 4.0);
+    }
+
+    /// A scratch reused for dense steps of other sizes and ranks gives the bits of a fresh one:
+    /// nothing of an earlier solve leaks into a later one (large then small, full rank then
+    /// with repeated rows, and back).
+    #[test]
+    fn a_reused_dense_scratch_gives_the_bits_of_a_fresh_one() {
+        let mut rng = Lcg(11);
+        let mut reused = DenseScratch::default();
+        for (m, nf, repeat) in [
+            (6, 8, false),
+            (2, 3, false),
+            (7, 9, true),
+            (1, 1, false),
+            (6, 8, true),
+        ] {
+            let mut a: Vec<f64> = (0..m * nf).map(|_| rng.centred()).collect();
+            if repeat {
+                // Row 1 repeats row 0: a dependent row the rank cut drops.
+                let (r0, r1) = a.split_at_mut(nf);
+                r1[..nf].copy_from_slice(r0);
+            }
+            let x_true: Vec<f64> = (0..nf).map(|_| rng.centred()).collect();
+            let rhs: Vec<f64> = (0..m)
+                .map(|i| (0..nf).map(|j| a[i * nf + j] * x_true[j]).sum())
+                .collect();
+            let inv_sqrt_w: Vec<f64> = (0..nf).map(|k| 1.0 / ((k % 3 + 1) as f64).sqrt()).collect();
+            let mean: Vec<f64> = (0..nf).map(|_| rng.centred()).collect();
+            let mut fresh_y = mean.clone();
+            DenseScratch::default().nearest_classes(&a, &rhs, &inv_sqrt_w, &mut fresh_y);
+            let mut reused_y = mean;
+            reused.nearest_classes(&a, &rhs, &inv_sqrt_w, &mut reused_y);
+            let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+            assert_eq!(
+                bits(&fresh_y),
+                bits(&reused_y),
+                "{m} × {nf}, repeated rows: {repeat}"
+            );
+            // And it solves: every row holds at the result.
+            for i in 0..m {
+                let ax: f64 = (0..nf).map(|j| a[i * nf + j] * fresh_y[j]).sum();
+                assert!(
+                    (ax - rhs[i]).abs() < 1e-12,
+                    "{m} × {nf}, row {i}: {ax} vs {}",
+                    rhs[i]
+                );
+            }
+        }
     }
 }

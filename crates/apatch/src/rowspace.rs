@@ -14,6 +14,12 @@
 
 /// Orthonormal basis of the row space of a dense row-major `m × n` matrix, with the
 /// triangular coefficients of the kept rows.
+///
+/// A basis can be factored again ([`RowBasis::factor`]) and solved into given vectors
+/// ([`RowBasis::solve_into`]), reusing its buffers: the split faces' dense step factors a
+/// small matrix for each of the bunny's 54 k faces, and its ~16 short-lived vectors a face were
+/// a third of the command's allocations (`docs/PERFORMANCE.md`, twenty-seventh pass).
+#[derive(Debug, Default)]
 pub(crate) struct RowBasis {
     n: usize,
     /// Indices of the kept rows, in order.
@@ -22,12 +28,26 @@ pub(crate) struct RowBasis {
     q: Vec<f64>,
     /// `h[k][j]` (`j ≤ k`), row-major `kept.len() × kept.len()`.
     h: Vec<f64>,
+    /// Work space of [`RowBasis::factor`]: the packed rows of `h`, the current row's
+    /// coefficients and the row being orthogonalised.
+    packed: Vec<f64>,
+    hk: Vec<f64>,
+    v: Vec<f64>,
 }
 
 impl RowBasis {
     /// Factors `a` (`m × n`, row-major). Rows whose residual after projection is at most
     /// `rel_tol` times the largest row norm are dropped as dependent.
+    #[cfg(test)]
     pub(crate) fn new(a: &[f64], m: usize, n: usize, rel_tol: f64) -> Self {
+        let mut basis = RowBasis::default();
+        basis.factor(a, m, n, rel_tol);
+        basis
+    }
+
+    /// Factors `a` as [`RowBasis::new`] does, in this basis's buffers (the same operations in
+    /// the same order, so the same bits).
+    pub(crate) fn factor(&mut self, a: &[f64], m: usize, n: usize, rel_tol: f64) {
         debug_assert_eq!(a.len(), m * n);
         let max_norm = (0..m)
             .map(|i| {
@@ -39,14 +59,19 @@ impl RowBasis {
             })
             .fold(0.0, f64::max);
         let cut = rel_tol * max_norm;
-        // At most min(m, n) rows are kept: allocate once.
+        // At most min(m, n) rows are kept.
         let most = m.min(n);
-        let mut kept = Vec::with_capacity(most);
-        let mut q: Vec<f64> = Vec::with_capacity(most * n);
+        self.n = n;
+        let (kept, q, coeffs) = (&mut self.kept, &mut self.q, &mut self.packed);
+        kept.clear();
+        q.clear();
         // `h` row k (k + 1 entries) at `coeffs[k(k+1)/2..]`.
-        let mut coeffs: Vec<f64> = Vec::with_capacity(most * (most + 1) / 2);
-        let mut hk = vec![0.0; most];
-        let mut v = vec![0.0; n];
+        coeffs.clear();
+        let (hk, v) = (&mut self.hk, &mut self.v);
+        hk.clear();
+        hk.resize(most, 0.0);
+        v.clear();
+        v.resize(n, 0.0);
         let norm_of = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
         for i in 0..m {
             let r = kept.len();
@@ -56,7 +81,7 @@ impl RowBasis {
                 break;
             }
             v.copy_from_slice(&a[i * n..(i + 1) * n]);
-            let before = norm_of(&v);
+            let before = norm_of(v);
             if before <= cut {
                 // Projection only shrinks the norm, so the residual is below the cut too
                 // (zero rows: equations whose unknowns were all eliminated).
@@ -75,13 +100,13 @@ impl RowBasis {
                 }
                 for j in 0..r {
                     let qj = &q[j * n..(j + 1) * n];
-                    let d: f64 = qj.iter().zip(&v).map(|(a, b)| a * b).sum();
+                    let d: f64 = qj.iter().zip(v.iter()).map(|(a, b)| a * b).sum();
                     hk[j] += d;
                     for (x, y) in v.iter_mut().zip(qj) {
                         *x -= d * y;
                     }
                 }
-                norm = norm_of(&v);
+                norm = norm_of(v);
             }
             if norm <= cut || norm == 0.0 {
                 continue;
@@ -92,30 +117,39 @@ impl RowBasis {
             coeffs.extend_from_slice(&hk[..=r]);
         }
         let r = kept.len();
-        let mut h = vec![0.0; r * r];
+        self.h.clear();
+        self.h.resize(r * r, 0.0);
         for k in 0..r {
             let start = k * (k + 1) / 2;
-            h[k * r..k * r + k + 1].copy_from_slice(&coeffs[start..start + k + 1]);
+            self.h[k * r..k * r + k + 1].copy_from_slice(&coeffs[start..start + k + 1]);
         }
-        RowBasis { n, kept, q, h }
     }
 
     /// The minimum-norm `x` with `A x = d` on the kept rows (all rows when `d` is consistent).
+    #[cfg(test)]
     pub(crate) fn solve(&self, d: &[f64]) -> Vec<f64> {
+        let (mut z, mut x) = (Vec::new(), Vec::new());
+        self.solve_into(d, &mut z, &mut x);
+        x
+    }
+
+    /// [`RowBasis::solve`] into `x`, with `z` for the triangular solve (both overwritten).
+    pub(crate) fn solve_into(&self, d: &[f64], z: &mut Vec<f64>, x: &mut Vec<f64>) {
         let r = self.kept.len();
-        let mut z = vec![0.0; r];
+        z.clear();
+        z.resize(r, 0.0);
         for k in 0..r {
             let row = &self.h[k * r..(k + 1) * r];
             let s: f64 = (0..k).map(|j| row[j] * z[j]).sum();
             z[k] = (d[self.kept[k]] - s) / row[k];
         }
-        let mut x = vec![0.0; self.n];
+        x.clear();
+        x.resize(self.n, 0.0);
         for (k, zk) in z.iter().enumerate() {
             for (xi, qi) in x.iter_mut().zip(&self.q[k * self.n..(k + 1) * self.n]) {
                 *xi += zk * qi;
             }
         }
-        x
     }
 }
 

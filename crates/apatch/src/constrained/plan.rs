@@ -2,8 +2,8 @@
 //! on every split face whose pivot tests come out the same ([`solve`]).
 
 use super::{
-    Classes, FORCE_PIVOT, PivotTest, RowKind, Step, System, force_determined_unknowns,
-    nearest_classes, nearest_solution, pair_pivot,
+    Classes, DenseScratch, FORCE_PIVOT, PivotTest, RowKind, Step, System,
+    force_determined_unknowns, nearest_solution, pair_pivot,
 };
 use algesurf_bb::extremes::max_abs;
 use std::cell::RefCell;
@@ -244,9 +244,28 @@ impl Plan {
     /// order. `None` if the plan has no [`Replay`] (see [`Replay::compile`]).
     fn replay(&self, sys: &System, target: &[f64]) -> Option<(Vec<f64>, f64, usize)> {
         let rp = self.replay.as_ref()?;
+        Some(SCRATCH.with(|cell| self.replay_in(rp, sys, target, &mut cell.borrow_mut())))
+    }
+
+    /// [`Plan::replay`] with `rp`, in `scratch`'s buffers.
+    fn replay_in(
+        &self,
+        rp: &Replay,
+        sys: &System,
+        target: &[f64],
+        scratch: &mut ReplayScratch,
+    ) -> (Vec<f64>, f64, usize) {
         let n = target.len();
+        let ReplayScratch {
+            vals,
+            mean,
+            a_mat,
+            rhs,
+            dense,
+        } = scratch;
         // Value slots: unknowns fixed by their single rows `0..n`, known classes `n..2n`.
-        let mut vals = vec![0.0; 2 * n];
+        vals.clear();
+        vals.resize(2 * n, 0.0);
         for &i in &self.singles {
             let (cols, ws, r) = sys.row(i);
             vals[cols[0]] = r / ws[0];
@@ -273,7 +292,7 @@ impl Plan {
         for step in &self.steps {
             match *step {
                 Step::Single { row, class } => {
-                    let (w, _, v) = reduce(&vals, k, row);
+                    let (w, _, v) = reduce(vals, k, row);
                     vals[n + class] = v / w;
                     k += 1;
                 }
@@ -281,8 +300,8 @@ impl Plan {
                     rows: [i, j],
                     classes: [ca, cb],
                 } => {
-                    let (a11, a12, ri) = reduce(&vals, k, i);
-                    let (a21, a22, rj) = reduce(&vals, k + 1, j);
+                    let (a11, a12, ri) = reduce(vals, k, i);
+                    let (a21, a22, rj) = reduce(vals, k + 1, j);
                     let det = a11 * a22 - a12 * a21;
                     vals[n + ca] = (ri * a22 - a12 * rj) / det;
                     vals[n + cb] = (a11 * rj - a21 * ri) / det;
@@ -292,15 +311,16 @@ impl Plan {
         }
         // The dense solve: the free classes' target means, the rows left in their columns.
         let nf = rp.weight.len();
-        let mean: Vec<f64> = (0..nf)
-            .map(|k| {
-                let ms = &rp.members[rp.member_start[k]..rp.member_start[k + 1]];
-                ms.iter().fold(0.0, |s, &j| s + target[j]) / rp.weight[k]
-            })
-            .collect();
+        mean.clear();
+        mean.extend((0..nf).map(|k| {
+            let ms = &rp.members[rp.member_start[k]..rp.member_start[k + 1]];
+            ms.iter().fold(0.0, |s, &j| s + target[j]) / rp.weight[k]
+        }));
         let m = self.dense.len();
-        let mut a_mat = vec![0.0; m * nf];
-        let mut rhs = vec![0.0; m];
+        a_mat.clear();
+        a_mat.resize(m * nf, 0.0);
+        rhs.clear();
+        rhs.resize(m, 0.0);
         for (i, &row) in self.dense.iter().enumerate() {
             let (_, ws, r) = sys.row(row);
             let srcs = &rp.dense_src[rp.dense_start[i]..rp.dense_start[i + 1]];
@@ -313,7 +333,8 @@ impl Plan {
             }
             rhs[i] = v;
         }
-        let y = nearest_classes(&a_mat, &rhs, &rp.inv_sqrt_w, mean);
+        dense.nearest_classes(a_mat, rhs, &rp.inv_sqrt_w, mean);
+        let y = &*mean;
         let x: Vec<f64> = rp
             .x_src
             .iter()
@@ -323,8 +344,24 @@ impl Plan {
             })
             .collect();
         let residual = sys.relative_residual(&x, target);
-        Some((x, residual, m))
+        (x, residual, m)
     }
+}
+
+/// The buffers of [`Plan::replay`], one set per thread, kept from face to face (see
+/// [`DenseScratch`]).
+#[derive(Debug, Default)]
+struct ReplayScratch {
+    vals: Vec<f64>,
+    /// The free classes' target means, then their values.
+    mean: Vec<f64>,
+    a_mat: Vec<f64>,
+    rhs: Vec<f64>,
+    dense: DenseScratch,
+}
+
+thread_local! {
+    static SCRATCH: RefCell<ReplayScratch> = RefCell::new(ReplayScratch::default());
 }
 
 impl Replay {
