@@ -680,8 +680,8 @@ fn nearest_classes(a_mat: &[f64], rhs: &[f64], inv_sqrt_w: &[f64], mean: Vec<f64
 }
 
 /// The buffers of [`nearest_classes`], kept from one solve to the next by the split faces'
-/// replay ([`plan::solve`]): ~16 vectors a face otherwise, a third of the bunny's allocations
-/// (`docs/PERFORMANCE.md`, twenty-seventh pass).
+/// replay ([`plan::solve`]): 16 vectors a face otherwise, 864 k of the bunny's 3.2 M
+/// allocations (`docs/PERFORMANCE.md`, twenty-seventh pass).
 #[derive(Debug, Default)]
 pub(crate) struct DenseScratch {
     scaled: Vec<f64>,

@@ -15,10 +15,9 @@
 /// Orthonormal basis of the row space of a dense row-major `m × n` matrix, with the
 /// triangular coefficients of the kept rows.
 ///
-/// A basis can be factored again ([`RowBasis::factor`]) and solved into given vectors
-/// ([`RowBasis::solve_into`]), reusing its buffers: the split faces' dense step factors a
-/// small matrix for each of the bunny's 54 k faces, and its ~16 short-lived vectors a face were
-/// a third of the command's allocations (`docs/PERFORMANCE.md`, twenty-seventh pass).
+/// A basis is factored ([`RowBasis::factor`]) and solved ([`RowBasis::solve_into`]) in its
+/// own buffers and the caller's, so that one basis serves many small systems without
+/// allocating (the split faces' dense step, `constrained::DenseScratch`).
 #[derive(Debug, Default)]
 pub(crate) struct RowBasis {
     n: usize,
@@ -36,8 +35,7 @@ pub(crate) struct RowBasis {
 }
 
 impl RowBasis {
-    /// Factors `a` (`m × n`, row-major). Rows whose residual after projection is at most
-    /// `rel_tol` times the largest row norm are dropped as dependent.
+    /// The basis of `a` ([`RowBasis::factor`] on a new basis).
     #[cfg(test)]
     pub(crate) fn new(a: &[f64], m: usize, n: usize, rel_tol: f64) -> Self {
         let mut basis = RowBasis::default();
@@ -45,8 +43,9 @@ impl RowBasis {
         basis
     }
 
-    /// Factors `a` as [`RowBasis::new`] does, in this basis's buffers (the same operations in
-    /// the same order, so the same bits).
+    /// Factors `a` (`m × n`, row-major) into this basis, replacing what it held and reusing
+    /// its buffers. Rows whose residual after projection is at most `rel_tol` times the
+    /// largest row norm are dropped as dependent.
     pub(crate) fn factor(&mut self, a: &[f64], m: usize, n: usize, rel_tol: f64) {
         debug_assert_eq!(a.len(), m * n);
         let max_norm = (0..m)
@@ -125,7 +124,7 @@ impl RowBasis {
         }
     }
 
-    /// The minimum-norm `x` with `A x = d` on the kept rows (all rows when `d` is consistent).
+    /// [`RowBasis::solve_into`] into new vectors.
     #[cfg(test)]
     pub(crate) fn solve(&self, d: &[f64]) -> Vec<f64> {
         let (mut z, mut x) = (Vec::new(), Vec::new());
@@ -133,7 +132,8 @@ impl RowBasis {
         x
     }
 
-    /// [`RowBasis::solve`] into `x`, with `z` for the triangular solve (both overwritten).
+    /// The minimum-norm `x` with `A x = d` on the kept rows (all rows when `d` is consistent),
+    /// written into `x`, with `z` for the triangular solve (both overwritten).
     pub(crate) fn solve_into(&self, d: &[f64], z: &mut Vec<f64>, x: &mut Vec<f64>) {
         let r = self.kept.len();
         z.clear();
