@@ -147,6 +147,42 @@ pub(crate) fn depth_until(
     d: f64,
     stop: f64,
 ) -> f64 {
+    depth_search::<false>(a, pa, b, pb, d, stop)
+}
+
+/// [`depth_until`] for callers that only need to know whether the depth is above `stop`,
+/// and its value when it is: `Some(depth_until(…))` exactly when that is `> stop`, bit for
+/// bit, else `None`.
+///
+/// Most pairs of a hull touch, and their first face axis shows an overlap numerator at most
+/// `0`, far below `stop · d`. Such an axis decides without the division that
+/// [`depth_until`] makes to return its value: `x ≤ below = fl(s(1 − 4ε))` (`s = fl(stop·d)`)
+/// gives `x / d ≤ stop(1 + u)²(1 − 8u) < stop(1 − 5u)`, so `fl(x / d) < stop` (u = ε/2, for
+/// normal `stop` and `s`, as for `above` there). The division was a fifth of
+/// `depth_until`'s samples on the bunny's hull (`perf annotate`).
+pub(crate) fn depth_above(
+    a: &[DVec3; 4],
+    pa: &FacePlanes,
+    b: &[DVec3; 4],
+    pb: &FacePlanes,
+    d: f64,
+    stop: f64,
+) -> Option<f64> {
+    let depth = depth_search::<true>(a, pa, b, pb, d, stop);
+    (depth > stop).then_some(depth)
+}
+
+/// The search of [`depth_until`]; with `DECIDE_ONLY`, a face axis whose least numerator is
+/// certainly below `stop · d` returns `−∞` instead of its divided value ([`depth_above`]).
+#[inline(always)]
+fn depth_search<const DECIDE_ONLY: bool>(
+    a: &[DVec3; 4],
+    pa: &FacePlanes,
+    b: &[DVec3; 4],
+    pb: &FacePlanes,
+    d: f64,
+    stop: f64,
+) -> f64 {
     if d == 0.0 || !d.is_finite() {
         return 0.0;
     }
@@ -161,6 +197,7 @@ pub(crate) fn depth_until(
     let s = stop * d;
     let fast = stop >= f64::MIN_POSITIVE && s >= f64::MIN_POSITIVE && s.is_finite();
     let above = s * (1.0 + 4.0 * f64::EPSILON);
+    let below = s * (1.0 - 4.0 * f64::EPSILON);
     let mut least = f64::INFINITY;
     for (t, pt, u) in [(a, pa, b), (b, pb, a)] {
         for k in 0..4 {
@@ -169,6 +206,9 @@ pub(crate) fn depth_until(
             };
             least = min_not_nan(least, x);
             if !(fast && least > above) {
+                if DECIDE_ONLY && fast && least <= below {
+                    return f64::NEG_INFINITY;
+                }
                 let depth = least / d;
                 if depth <= stop {
                     return depth;
@@ -289,6 +329,8 @@ mod tests {
     /// gives the same value, bit for bit, as a division per axis: for separated, touching
     /// (shared faces, edges and vertices, as in a hull) and overlapping pairs, with stops of
     /// 0, the hull's tolerance, values near the pair's own depth, negative and subnormal.
+    /// [`depth_above`], which skips the division where an axis decides, answers the value
+    /// exactly when it is above the stop.
     #[test]
     fn least_numerator_gives_the_divided_depth_bit_for_bit() {
         let mut r = Lcg(11);
@@ -324,6 +366,12 @@ mod tests {
                     got.to_bits(),
                     want.to_bits(),
                     "case {case}, stop {stop:e}: {got:e} vs {want:e}"
+                );
+                let above = depth_above(&a, &pa, &b, &pb, d, stop);
+                assert_eq!(
+                    above.map(f64::to_bits),
+                    (want > stop).then_some(want.to_bits()),
+                    "case {case}, stop {stop:e}: depth_above {above:?} vs {want:e}"
                 );
                 exits_below += (want <= stop) as usize;
             }

@@ -5,7 +5,7 @@
 use super::rounds::{Overlap, RoundTet};
 use super::{Element, HullTetrahedron, Intersection, SimplicialHull};
 use crate::Side;
-use crate::overlap::{FacePlanes, common_diagonal, depth_until, tet_box};
+use crate::overlap::{FacePlanes, common_diagonal, depth_above, tet_box};
 use crate::refine::key;
 use algesurf_bb::Tetrahedron;
 use algesurf_mesh::morton::MortonBvh;
@@ -163,7 +163,7 @@ impl SimplicialHull {
         // vertices and face planes (computed once per tetrahedron: each takes part in ~40
         // candidate pairs on the bunny) are copied into the tree's Morton order, so that the
         // pairs of neighbouring leaves read neighbouring memory. Each pair is tested in the
-        // order of its indices, `depth_until(lower, higher)`, whichever way the walk meets it.
+        // order of its indices, `depth_above(lower, higher)`, whichever way the walk meets it.
         let bvh = MortonBvh::with_leaf_size(
             ids.par_iter()
                 .map(|&(k, s)| tet_box(self.element_side(k as usize, s).1.vertices()))
@@ -194,8 +194,8 @@ impl SimplicialHull {
                 // The pair's common box from the two boxes the tree holds: the same corners
                 // (min and max are exact) as from the eight vertices.
                 let d = common_diagonal(bvh.slot_box(a), bvh.slot_box(b));
-                let depth = depth_until(&verts[a], &planes[a], &verts[b], &planes[b], d, tol);
-                (depth > tol).then_some((order[a], order[b], depth))
+                depth_above(&verts[a], &planes[a], &verts[b], &planes[b], d, tol)
+                    .map(|depth| (order[a], order[b], depth))
             },
             progress,
         );
@@ -456,10 +456,9 @@ impl TetIndex {
                             ((v, &indexed.planes[slot]), (&t.vertices, planes))
                         };
                         let d = common_diagonal(&tet_box(va), &tet_box(vb));
-                        let depth = depth_until(va, pa, vb, pb, d, tol);
-                        if depth <= tol {
+                        let Some(depth) = depth_above(va, pa, vb, pb, d, tol) else {
                             return;
-                        }
+                        };
                         let Some(u) = checked.or_else(current) else {
                             return;
                         };
