@@ -225,7 +225,7 @@ struct Current {
 impl Current {
     /// The current edge with key `k`: made since the first round, or the first round's.
     fn edge(&self, k: [u32; 2]) -> Option<&HullEdge> {
-        self.edge_after(k, &mut 0)
+        self.edge_with(k, |keys| keys.binary_search(&k).ok())
     }
 
     /// [`Current::edge`] for keys asked in ascending order: `hint` is where the first
@@ -237,22 +237,33 @@ impl Current {
     /// bunny's 104 k keys is seventeen, mostly cache misses: [`Rounds::finish`]'s list of
     /// every edge took 14–19 ms that way.
     fn edge_after(&self, k: [u32; 2], hint: &mut usize) -> Option<&HullEdge> {
-        if let Some(made) = self.changed.get(&k) {
-            return made.map(|(r, i)| &self.made[r as usize][i as usize]);
+        self.edge_with(k, |keys| {
+            let start = (*hint).min(keys.len());
+            let near = keys[start..]
+                .iter()
+                .take(8)
+                .position(|x| *x >= k)
+                .map(|d| start + d);
+            let id = match near {
+                Some(i) if keys[i] == k => i,
+                _ => keys.binary_search(&k).ok()?,
+            };
+            *hint = id + 1;
+            Some(id)
+        })
+    }
+
+    /// The current edge with key `k`: from the changes since the first round, else the first
+    /// round's edge at the place `find` gives in its keys.
+    fn edge_with(
+        &self,
+        k: [u32; 2],
+        find: impl FnOnce(&[[u32; 2]]) -> Option<usize>,
+    ) -> Option<&HullEdge> {
+        match self.changed.get(&k) {
+            Some(made) => made.map(|(r, i)| &self.made[r as usize][i as usize]),
+            None => find(&self.first_keys).map(|id| &self.first_edges[id]),
         }
-        let keys = &self.first_keys;
-        let start = (*hint).min(keys.len());
-        let near = keys[start..]
-            .iter()
-            .take(8)
-            .position(|x| *x >= k)
-            .map(|d| start + d);
-        let id = match near {
-            Some(i) if keys[i] == k => i,
-            _ => keys.binary_search(&k).ok()?,
-        };
-        *hint = id + 1;
-        Some(&self.first_edges[id])
     }
 
     /// The tetrahedron on `side` of face `f`, as it is now.
@@ -629,8 +640,8 @@ mod tests {
         assert!(hull.intersections().is_empty());
     }
 
-    /// Looking edges up from a hint gives what a binary search gives, whatever order the
-    /// keys are asked in: ascending with gaps short and long (the walk and the search after
+    /// Looking edges up from a hint gives what a binary search gives (and `Current::edge`,
+    /// which searches at once), whatever order the keys are asked in: ascending with gaps short and long (the walk and the search after
     /// it), descending, repeated, keys the first round did not make, and keys made or
     /// removed since, which the changes answer.
     #[test]
@@ -679,6 +690,7 @@ mod tests {
             for &k in order {
                 let got = current.edge_after(k, &mut hint).map(|e| e.vertices);
                 assert_eq!(got, want(k), "key {k:?}");
+                assert_eq!(current.edge(k).map(|e| e.vertices), want(k), "key {k:?}");
             }
         }
         assert!(asked.len() > 300, "{} keys asked", asked.len());
