@@ -339,3 +339,123 @@ fn a_cancelled_construction_or_tessellation_stops_with_cancelled() {
         assert!(log.steps().pop().unwrap().name.starts_with(at));
     }
 }
+
+/// A grid of `n × n` squares of side `h` in the plane z = 0 with a C1 bump
+/// `z = a (1 − r²/R²)²` (r < R) over its middle and the bump's exact unit normals: faces
+/// outside the bump are planar patches (all three normals perpendicular to them), the others
+/// convex or split, and the mesh has a boundary.
+fn bumped_grid(n: u32, h: f64) -> (TriMesh, Vec<DVec3>) {
+    let flat = algesurf_mesh::shapes::grid(n, n);
+    let centre = DVec3::new(0.5, 0.5, 0.0) * (n as f64 * h);
+    let (a, radius) = (0.15 * n as f64 * h, 0.3 * n as f64 * h);
+    let mut pos = Vec::new();
+    let mut normals = Vec::new();
+    for p in flat.positions() {
+        let q = *p * h;
+        let d = q - centre;
+        let s = 1.0 - d.length_squared() / (radius * radius);
+        if s > 0.0 {
+            // ∂z/∂x = −4 a s x / R² (and y alike).
+            let slope = -4.0 * a * s / (radius * radius);
+            pos.push(DVec3::new(q.x, q.y, a * s * s));
+            normals.push(DVec3::new(-slope * d.x, -slope * d.y, 1.0).normalize());
+        } else {
+            pos.push(q);
+            normals.push(DVec3::Z);
+        }
+    }
+    (
+        TriMesh::new(pos, flat.triangles().to_vec()).unwrap(),
+        normals,
+    )
+}
+
+/// Meshes with every kind of patch: the bumped grid (planar faces of area h²/2 = 0.005, so
+/// their unnormalised normals are far from unit length), a torus (convex and split faces,
+/// edge patches), and an ellipsoid given by its gradients (vertex data that are not unit).
+fn every_kind_of_patch() -> Vec<(&'static str, TriMesh, Vec<DVec3>)> {
+    use algesurf_mesh::{NormalMethod, shapes, vertex_normals};
+    let (grid, grid_normals) = bumped_grid(8, 0.1);
+    let torus = shapes::torus(12, 8, 1.0, 0.4);
+    let torus_normals = vertex_normals(&torus, NormalMethod::Loop).unwrap();
+    let sphere = icosphere(1);
+    let axes = DVec3::new(1.5, 1.0, 0.7);
+    let pos: Vec<DVec3> = sphere.positions().iter().map(|p| *p * axes).collect();
+    let grads: Vec<DVec3> = pos.iter().map(|p| *p / (axes * axes)).collect();
+    let ellipsoid = TriMesh::new(pos, sphere.triangles().to_vec()).unwrap();
+    vec![
+        ("bumped grid", grid, grid_normals),
+        ("torus", torus, torus_normals),
+        ("ellipsoid", ellipsoid, grads),
+    ]
+}
+
+/// `Tessellation::normals` are unit vectors (`∇F/|∇F|`) on every kind of patch, the planar
+/// ones included (whose normal is the face's), and at the mesh vertices.
+#[test]
+fn tessellation_normals_are_unit_vectors_on_every_kind_of_patch() {
+    let mut kinds = std::collections::HashSet::new();
+    for (name, mesh, normals) in every_kind_of_patch() {
+        let s = ApatchSurface::new(&mesh, &normals, &SurfaceOptions::default()).unwrap();
+        let t = s.tessellate(3, 2).unwrap();
+        kinds.extend(t.triangle_kind.iter().copied());
+        // A normalised vector's length is 1 within a few rounding errors (the squares' sum,
+        // its square root, the reciprocal and the products: < 4ε).
+        let worst = t
+            .normals
+            .iter()
+            .map(|n| (n.length() - 1.0).abs())
+            .fold(0.0, f64::max);
+        assert!(
+            worst <= 4.0 * f64::EPSILON,
+            "{name}: | |n| − 1 | up to {worst:e}"
+        );
+    }
+    for kind in [PatchKind::Planar, PatchKind::Face, PatchKind::Edge] {
+        assert!(kinds.contains(&kind), "no {kind:?} patch among the meshes");
+    }
+}
+
+/// Every tolerance of the construction is relative to the mesh's size: scaling the input by a
+/// power of two (exact in floating point) scales the tessellation by the same factor, bit for
+/// bit, and leaves its normals, triangles and patches as they are.
+#[test]
+fn smoothing_commutes_with_scaling_by_a_power_of_two() {
+    for (name, mesh, normals) in every_kind_of_patch() {
+        let t = ApatchSurface::new(&mesh, &normals, &SurfaceOptions::default())
+            .unwrap()
+            .tessellate(3, 2)
+            .unwrap();
+        for k in [-20, 10] {
+            let s = 2f64.powi(k);
+            let scaled = TriMesh::new(
+                mesh.positions().iter().map(|p| *p * s).collect(),
+                mesh.triangles().to_vec(),
+            )
+            .unwrap();
+            let ts = ApatchSurface::new(&scaled, &normals, &SurfaceOptions::default())
+                .unwrap()
+                .tessellate(3, 2)
+                .unwrap();
+            assert_eq!(ts.triangles, t.triangles, "{name} × 2^{k}: triangles");
+            assert_eq!(
+                ts.triangle_patch, t.triangle_patch,
+                "{name} × 2^{k}: patches"
+            );
+            let moved = t
+                .positions
+                .iter()
+                .zip(&ts.positions)
+                .filter(|(a, b)| **a * s != **b)
+                .count();
+            assert_eq!(moved, 0, "{name} × 2^{k}: positions not scaled exactly");
+            let turned = t
+                .normals
+                .iter()
+                .zip(&ts.normals)
+                .filter(|(a, b)| a != b)
+                .count();
+            assert_eq!(turned, 0, "{name} × 2^{k}: normals changed");
+        }
+    }
+}

@@ -131,6 +131,7 @@ pub(super) struct FaceRays<'a> {
 
 enum FaceKind<'a> {
     Planar {
+        /// The face's unit normal (the positive side's).
         normal: DVec3,
     },
     Convex {
@@ -151,8 +152,10 @@ impl<'a> FaceRays<'a> {
         let tri = m.triangles()[f];
         let p = tri.map(|v| m.positions()[v as usize]);
         let kind = match &surface.faces()[f] {
+            // `face_normal` is twice the area vector: the tessellation's normals are unit
+            // vectors (`Tessellation::normals`), and PLY and OBJ write them as they are.
             FaceFunction::Planar => FaceKind::Planar {
-                normal: m.face_normal(f),
+                normal: m.face_normal(f).normalize_or_zero(),
             },
             FaceFunction::Convex { side, cubic } => FaceKind::Convex {
                 sign: if *side == Side::Positive { 1.0 } else { -1.0 },
