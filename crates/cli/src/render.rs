@@ -220,7 +220,7 @@ pub fn run(args: &RenderArgs) -> Result<(), BoxError> {
         let mut tess =
             tess.map_err(|e| format!("{name}: cannot tessellate at resolution {n} × {m}: {e}"))?;
         // In the input's coordinates, which an explicit camera (--eye, --target) is given in.
-        crate::smooth::to_input_coordinates(s.origin, &mut s.tri, &mut tess.positions);
+        s.frame.move_to_input(&mut s.tri, &mut tess.positions);
         let mut mesh = RenderMesh::from(&tess);
         // The input (control) mesh's edges are chords of the surface: on convex parts they
         // lie inside it by the chord sag (0.15 of the radius for the icosahedron, 4 % of the

@@ -12,6 +12,7 @@ use std::process::ExitCode;
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::time::Instant;
 
+use crate::frame::LocalFrame;
 use crate::grid::{GridArgs, Resolution};
 use crate::hints;
 use crate::stage::{Timings, measured, stage};
@@ -401,24 +402,12 @@ pub(crate) struct Built {
     /// (replaced by the area-weighted normal) and those pointing against their faces
     /// (reversed), [`algesurf_mesh::file_normal_changes`]; empty otherwise.
     pub file_normals: (Vec<u32>, Vec<u32>),
-    /// Where `tri` and `surface` have their origin in the input's coordinates
-    /// ([`algesurf_mesh::Aabb::exact_local_origin`]): zero unless the input lies far from the
-    /// origin for its size. [`to_input_coordinates`] moves results back.
-    pub origin: DVec3,
-}
-
-/// Moves the mesh `tri` and the surface points `points` from the build's coordinates back to
-/// the input's, by the build's `origin`: the input's vertices come back bit for bit (the move
-/// there was exact), the surface points rounded once at the input's scale. Nothing to do for
-/// an input near the origin (the corpus, the benchmark's bunny).
-pub(crate) fn to_input_coordinates(origin: DVec3, tri: &mut TriMesh, points: &mut [DVec3]) {
-    if origin == DVec3::ZERO {
-        return;
-    }
-    for p in tri.positions_mut() {
-        *p += origin;
-    }
-    points.par_iter_mut().for_each(|p| *p += origin);
+    /// Where `tri` and `surface` lie in the input's coordinates (`frame.rs`): the input
+    /// scaled by a power of two when its coordinates are beyond `2^±64`, then moved to an
+    /// exact local origin ([`algesurf_mesh::Aabb::exact_local_origin`]) when it lies far from
+    /// the origin for its size; neither for most inputs. [`LocalFrame::move_to_input`] moves
+    /// results back.
+    pub frame: LocalFrame,
 }
 
 /// The name of the input in messages: its path, or the built-in mesh's description.
@@ -439,13 +428,18 @@ pub(crate) fn build(
 ) -> Result<Built, BoxError> {
     let source = source_name(input);
     let mut t = Timings::default();
+    let mut exponent = 0;
     // Read and repair (the built-in mesh needs neither).
     let (tri, repair_text, repair_json) = match input {
         Some(path) => {
             let (mesh, dt, usage) = measured("reading", progress, |_| crate::read_mesh(path));
             (t.read, t.usage.read) = (dt, usage);
             crate::interrupt::check()?;
-            let mesh = mesh?;
+            let mut mesh = mesh?;
+            // Coordinates beyond 2^±64 are built at a power of two's scale (`frame.rs`), from
+            // the repair on: its area threshold squares the bounding box's diagonal.
+            exponent = crate::frame::scale_exponent(&mesh.positions);
+            crate::frame::scale_down(&mut mesh.positions, exponent);
             let (repaired, dt, usage) = measured("repairing", progress, |_| {
                 repair(&mesh, &RepairOptions::default())
             });
@@ -495,7 +489,7 @@ pub(crate) fn build(
     // A mesh far from the origin for its size is built about an origin near it, moved to
     // exactly (`Aabb::exact_local_origin`): its absolute coordinates' rounding, relative to
     // the mesh, grows with the distance, and the cow moved by 1000 failed to build. The
-    // results are moved back by the callers (`to_input_coordinates`).
+    // results are moved back by the callers (`LocalFrame::move_to_input`).
     let mut tri = tri;
     let origin = tri.bounding_box().exact_local_origin();
     if origin != DVec3::ZERO {
@@ -573,7 +567,7 @@ pub(crate) fn build(
         repair_json,
         timings: t,
         file_normals,
-        origin,
+        frame: LocalFrame { exponent, origin },
     })
 }
 
@@ -640,7 +634,7 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
         repair_json,
         timings,
         file_normals,
-        origin,
+        frame,
     } = build(args.input.as_deref(), &args.surface, progress)?;
     let mut t = timings;
     let refinements = surface.hull().refinements().len();
@@ -663,8 +657,10 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
     crate::interrupt::check()?;
     let mut tess =
         tess.map_err(|e| format!("{source}: cannot tessellate at resolution {n} × {m}: {e}"))?;
-    // The output, and the deviation measured on it, in the input's coordinates.
-    to_input_coordinates(origin, &mut tri, &mut tess.positions);
+    // The output, and the deviation measured on it, in the input's coordinates; but for the
+    // power of two of an input beyond 2^±64 (`frame.rs`), which is undone after the deviation
+    // is measured: at the input's scale its squared distances would overflow or underflow.
+    frame.restore_origin(&mut tri, &mut tess.positions);
 
     let min_margin = surface
         .free_parameters()
@@ -687,6 +683,14 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
     // Per-face patch ids and kinds only where the format stores face properties (PLY).
     let face_properties = algesurf_io::Format::from_path(&output) == Some(algesurf_io::Format::Ply);
     let out_mesh = output_mesh(&mut tess, &numbering, face_properties);
+    // What is written: the output at the input's scale (a copy only for a rescaled input).
+    let written_mesh = if frame.exponent == 0 {
+        std::borrow::Cow::Borrowed(&out_mesh)
+    } else {
+        let mut m = out_mesh.clone();
+        frame.restore_scale(&mut m.positions);
+        std::borrow::Cow::Owned(m)
+    };
     let write_options = WriteOptions::default();
     // The check and the write at the same time: the write is mostly the kernel's (copying
     // into the page cache, `fsync`, and the rename freeing a replaced file's pages: 0.13 s and
@@ -698,7 +702,7 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
             // Each part timed on its own (no spinner: the pair has one).
             let writer = scope.spawn(|| {
                 stage("writing", false, |p| {
-                    algesurf_io::write_with_progress(&output, &out_mesh, &write_options, p)
+                    algesurf_io::write_with_progress(&output, &written_mesh, &write_options, p)
                 })
             });
             let checked = stage("checking", false, |_| {
@@ -719,6 +723,7 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
         })
     });
     let (((deviation, diagonal), continuity), check_time) = checked;
+    let (deviation, diagonal) = (frame.length(deviation), frame.length(diagonal));
     let (written, write_time) = written.map_err(|_| "the thread writing the output panicked")?;
     (t.check, t.write, t.check_and_write) = (check_time, write_time, dt);
     t.usage.check_and_write = usage;
@@ -1017,6 +1022,7 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
     // the tessellation would free their hundreds of megabytes block by block (about 0.1 s
     // of wall time after the summary on the bunny, `perf`: `mi_free`, `Vec::drop`,
     // `drop_in_place<ApatchSurface>`), which the kernel reclaims at exit anyway.
+    std::mem::forget(written_mesh);
     std::mem::forget((tri, surface, tess, out_mesh));
     if ok {
         Ok(ExitCode::SUCCESS)

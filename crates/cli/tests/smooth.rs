@@ -599,6 +599,29 @@ fn torus_obj(offset: glam::DVec3) -> (String, Vec<glam::DVec3>) {
     (s, moved)
 }
 
+/// Runs `smooth NAME.obj -o NAME.ply EXTRA --report NAME.json` in `dir`, which must succeed,
+/// and reads the output and the report.
+fn smooth_with_report(
+    dir: &TempDir,
+    name: &str,
+    extra: &[&str],
+) -> (PolygonMesh, serde_json::Value) {
+    let (obj, ply, json) = (
+        format!("{name}.obj"),
+        format!("{name}.ply"),
+        format!("{name}.json"),
+    );
+    let mut args = vec!["smooth", &obj, "-o", &ply];
+    args.extend_from_slice(extra);
+    args.extend(["--report", &json]);
+    let out = algesurf(dir.path(), &args);
+    assert!(out.status.success(), "{name}: {}", text(&out));
+    let mesh = algesurf_io::read(dir.path().join(&ply)).unwrap();
+    let report =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join(&json)).unwrap()).unwrap();
+    (mesh, report)
+}
+
 /// A mesh 10⁵ of its sizes from the origin is smoothed about an origin near it: the torus
 /// there failed to build ("the split-face constraints are inconsistent"), as the corpus's cow
 /// and Suzanne did moved by 1000, and the C1 figures grew in proportion to the distance
@@ -613,25 +636,8 @@ fn a_mesh_far_from_the_origin_smooths_as_at_the_origin() {
     for (name, shift) in [("near", glam::DVec3::ZERO), ("far", offset)] {
         let (obj, vertices) = torus_obj(shift);
         std::fs::write(dir.path().join(format!("{name}.obj")), obj).unwrap();
-        let (ply, json) = (format!("{name}.ply"), format!("{name}.json"));
-        let args = [
-            "smooth",
-            &format!("{name}.obj"),
-            "-o",
-            &ply,
-            "--resolution",
-            "3",
-            "--across",
-            "2",
-            "--report",
-            &json,
-        ];
-        let out = algesurf(dir.path(), &args);
-        assert!(out.status.success(), "{name}: {}", text(&out));
-        let mesh = algesurf_io::read(dir.path().join(&ply)).unwrap();
-        let report: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(dir.path().join(&json)).unwrap())
-                .unwrap();
+        let (mesh, report) =
+            smooth_with_report(&dir, name, &["--resolution", "3", "--across", "2"]);
         runs.push((vertices, mesh, report));
     }
     let [(_, near, near_report), (far_input, far, far_report)] = &runs[..] else {
@@ -664,6 +670,51 @@ fn a_mesh_far_from_the_origin_smooths_as_at_the_origin() {
             near_report["continuity"][key].as_f64().unwrap(),
         );
         assert!(f <= 1e-13, "{key}: far {f:e} (near {n:e})");
+    }
+}
+
+/// Coordinates far beyond any measured object's (2^±300, about 1e±90) smooth to the unit
+/// mesh's surface scaled, bit for bit: the command builds such inputs at a power of two's
+/// scale (`frame.rs`), exactly, and scales the output back. An icosahedron at 2^-270 lost
+/// every face to repair ("dropped degenerate faces") and at 2^260 failed in the hull ("normal
+/// is not a finite non-zero vector"). The report's deviation is the unit one's, scaled.
+#[test]
+fn extreme_coordinates_smooth_to_the_scaled_surface() {
+    let dir = TempDir::new("smooth", "extreme");
+    let mut runs = Vec::new();
+    for k in [0, 300, -300] {
+        let s = 2f64.powi(k);
+        let obj: String = icosphere_obj(1)
+            .lines()
+            .map(|l| match l.strip_prefix("v ") {
+                Some(xyz) => {
+                    let p: Vec<f64> = xyz
+                        .split(' ')
+                        .map(|x| x.parse::<f64>().unwrap() * s)
+                        .collect();
+                    format!("v {:?} {:?} {:?}\n", p[0], p[1], p[2])
+                }
+                None => format!("{l}\n"),
+            })
+            .collect();
+        let name = format!("ico_{}", k + 1000);
+        std::fs::write(dir.path().join(format!("{name}.obj")), obj).unwrap();
+        let (mesh, report) = smooth_with_report(&dir, &name, &[]);
+        runs.push((s, mesh, report));
+    }
+    let (_, unit, unit_report) = &runs[0];
+    for (s, mesh, report) in &runs[1..] {
+        assert!(mesh.faces().eq(unit.faces()), "× {s:e}: faces");
+        let moved = mesh
+            .positions
+            .iter()
+            .zip(&unit.positions)
+            .filter(|(p, q)| **p != **q * *s)
+            .count();
+        assert_eq!(moved, 0, "× {s:e}: positions not the unit ones scaled");
+        assert_eq!(mesh.normals, unit.normals, "× {s:e}: normals");
+        let dev = |r: &serde_json::Value| r["deviation"]["max"].as_f64().unwrap();
+        assert_eq!(dev(report), dev(unit_report) * s, "× {s:e}: deviation");
     }
 }
 
