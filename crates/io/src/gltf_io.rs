@@ -5,7 +5,7 @@
 //! applies node transforms to positions and normals (flipping the winding of mirrored nodes),
 //! and concatenates the triangle primitives (`TRIANGLES`, `TRIANGLE_STRIP`, `TRIANGLE_FAN`) in
 //! that order. The custom attribute `_PATCH_ID` becomes the vertex property
-//! [`PATCH_ID`](crate::PATCH_ID). Writing is `crate::gltf_write`'s.
+//! [`crate::PATCH_ID`]. Writing is `crate::gltf_write`'s.
 
 use std::borrow::Cow;
 use std::path::Path;

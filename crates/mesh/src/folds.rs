@@ -3,7 +3,7 @@
 //! §3 of Xu–Huang–Bajaj 2001 (and any construction that lays a graph-like patch over each face)
 //! needs, at every vertex, a normal on the positive side of all its faces (`n_fᵀn_v > 0`): the
 //! faces' normals must fit in an open hemisphere. Real meshes break this in two ways, and
-//! [`crate::repair`] mends both:
+//! [`crate::repair()`] mends both:
 //!
 //! - *Folded caps* ([`flip_folded_caps`]): nearly flat triangles (one angle close to 180°) whose
 //!   normal points against the neighbour across their longest edge — a corner pushed through

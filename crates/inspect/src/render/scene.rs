@@ -111,7 +111,9 @@ pub(crate) struct Prepared {
     /// precision is far more than enough, and they halve the memory traffic per sample.
     pub normals: Vec<Vec3>,
     pub triangles: Vec<[u32; 3]>,
-    /// Base colour per triangle for the mode (see [`colour_for`]).
+    /// Base colour per triangle for the mode: the mesh's colour (shaded), the patch's
+    /// ([`super::colour::patch_colour`]), white where the shading makes the colour, and the
+    /// highlight colour on highlighted triangles.
     pub colours: Vec<Rgb>,
     /// Curvature mode: colour per vertex.
     pub vertex_colours: Option<Vec<Rgb>>,
