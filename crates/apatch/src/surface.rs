@@ -226,6 +226,16 @@ impl ApatchSurface {
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     ///
+    /// # Extreme coordinates
+    /// Every tolerance is relative to the mesh's size, so scaling the mesh by a power of two
+    /// scales the surface and its tessellation by the same factor, bit for bit (tested). What
+    /// does not scale is the range of `f64`: areas and normals are products of up to four
+    /// lengths, so a mesh whose largest coordinate is beyond `2^±252` is refused
+    /// ([`algesurf_hull::HullError::CoordinatesOutOfRange`]). Scale such a mesh by a power of
+    /// two first (`2^-e` with `e` the exponent of its largest coordinate) and the tessellation
+    /// back by `2^e`; both steps are exact, and `algesurf smooth` does so for coordinates
+    /// beyond `2^±64`.
+    ///
     /// # Errors
     /// [`ApatchError::Hull`] when the hull cannot be built; [`ApatchError::UnliftableEdgeRay`]
     /// when an edge A-patch is still unliftable after the refinements; the other variants of

@@ -32,6 +32,21 @@ pub enum HullError {
         /// "position" or "normal".
         what: &'static str,
     },
+    /// The largest absolute coordinate is outside `[2^-252, 2^252]`
+    /// ([`crate::COORDINATE_EXPONENT_RANGE`]): the hull's areas and normals, products of up to
+    /// four lengths and their sums, would overflow or underflow `f64` (an icosahedron at `2^260`
+    /// failed with a zero face normal, one at `2^-270` with zero areas). The construction is
+    /// exact under scaling by a power of two, so scaling the mesh by `2^-e` (`e` the exponent
+    /// of its largest coordinate) and the results back by `2^e` builds it.
+    #[error(
+        "the largest coordinate, {largest:e} in absolute value, is outside [2^-252, 2^252] \
+         (1.4e-76 to 7.2e75), where the hull's areas and normals (products of four lengths) \
+         stay within f64: scale the mesh by a power of two (exact) and the results back"
+    )]
+    CoordinatesOutOfRange {
+        /// The largest absolute coordinate.
+        largest: f64,
+    },
     /// A triangle has (numerically) zero area, so it has no normal `n_ijk`.
     #[error("face {face} {vertices:?} is degenerate (zero area)")]
     DegenerateFace {

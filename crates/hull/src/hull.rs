@@ -153,6 +153,7 @@ pub(crate) fn check_input(mesh: &TriMesh, normals: &[DVec3]) -> Result<(), HullE
             normals: normals.len(),
         });
     }
+    let mut largest: f64 = 0.0;
     for (v, (p, n)) in mesh.positions().iter().zip(normals).enumerate() {
         if !p.is_finite() {
             return Err(HullError::BadVertexData {
@@ -166,9 +167,21 @@ pub(crate) fn check_input(mesh: &TriMesh, normals: &[DVec3]) -> Result<(), HullE
                 what: "normal",
             });
         }
+        largest = largest.max(p.abs().max_element());
+    }
+    // A fourfold product of lengths up to 2·2^252 (and a sum of three) stays below 2^1023,
+    // and one of 2^-252 above 2^-1022, f64's normal range (the finite checks above make
+    // `largest` a number).
+    let range = 2f64.powi(-COORDINATE_EXPONENT_RANGE)..=2f64.powi(COORDINATE_EXPONENT_RANGE);
+    if largest != 0.0 && !range.contains(&largest) {
+        return Err(HullError::CoordinatesOutOfRange { largest });
     }
     Ok(())
 }
+
+/// The hull is built for meshes whose largest absolute coordinate lies in
+/// `[2^-252, 2^252]` ([`HullError::CoordinatesOutOfRange`]).
+pub const COORDINATE_EXPONENT_RANGE: i32 = 252;
 
 /// What the per-element builders read: the mesh's positions and normals, the face map (for
 /// the input face ids that errors name) and the options. [`build`] uses them on every element

@@ -63,7 +63,7 @@ pub use classify::{
     edge_slopes, mid_edge_coefficient,
 };
 pub use error::HullError;
-pub use hull::{EdgeTetrahedron, FaceTetrahedron, HullEdge, HullFace};
+pub use hull::{COORDINATE_EXPONENT_RANGE, EdgeTetrahedron, FaceTetrahedron, HullEdge, HullFace};
 pub use overlap::{overlap_depth, tetrahedra_overlap};
 pub use simplicial::{Element, HullTetrahedron, Intersection, Refinement, SimplicialHull};
 

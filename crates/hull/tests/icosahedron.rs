@@ -3,7 +3,7 @@
 
 mod common;
 
-use algesurf_hull::{Convexity, Element, HullOptions, Side, SimplicialHull};
+use algesurf_hull::{Convexity, Element, HullError, HullOptions, Side, SimplicialHull};
 use common::{
     brute_force_overlaps, check_apex_properties, icosahedron, icosphere, min_relative_measure,
 };
@@ -210,4 +210,33 @@ fn tetrahedra_are_listed_in_element_order() {
         hull.faces().len() + hull.edges().len()
     );
     assert_eq!(hull.tetrahedra(), want);
+}
+
+/// Beyond `2^±252` (the largest coordinate) the hull's products of four lengths would leave
+/// f64's range: such meshes are refused with `CoordinatesOutOfRange`, naming the coordinate
+/// (the icosahedron at `2^260` failed with a zero face normal, "the normal of vertex 0 is not
+/// on the positive side", and at `2^-270` with "degenerate (zero area)"). Within the range, at
+/// both ends, the hull is the unit one's scaled, bit for bit.
+#[test]
+fn coordinates_beyond_the_range_are_refused_and_the_ends_of_the_range_build() {
+    let (p, f) = icosphere(1);
+    let unit = SimplicialHull::new(&p, &f, &p, &HullOptions::default()).unwrap();
+    for k in [-252, 252] {
+        let s = 2f64.powi(k);
+        let q: Vec<DVec3> = p.iter().map(|&x| x * s).collect();
+        let h = SimplicialHull::new(&q, &f, &p, &HullOptions::default()).unwrap();
+        for (a, b) in unit.faces().iter().zip(h.faces()) {
+            assert_eq!(a.u().unwrap() * s, b.u().unwrap(), "2^{k}");
+            assert_eq!(a.v().map(|v| v * s), b.v(), "2^{k}");
+        }
+    }
+    for k in [-260, -253, 253, 260] {
+        let q: Vec<DVec3> = p.iter().map(|&x| x * 2f64.powi(k)).collect();
+        let largest = q.iter().map(|x| x.abs().max_element()).fold(0.0, f64::max);
+        assert_eq!(
+            SimplicialHull::new(&q, &f, &p, &HullOptions::default()).err(),
+            Some(HullError::CoordinatesOutOfRange { largest }),
+            "2^{k}"
+        );
+    }
 }
