@@ -13,7 +13,8 @@
 //! not a finite non-zero vector"). Inputs whose largest coordinate lies outside
 //! `[2^-64, 2^64]` (5.4e-20 to 1.8e19: far beyond any measured object in any unit) are
 //! therefore built at the scale where it lies in `[1, 2)`; all others at their own, so that
-//! nothing changes for them.
+//! nothing changes for them. (The library refuses meshes beyond `2^±252`,
+//! `algesurf_hull::HullError::CoordinatesOutOfRange`; the commands never hand it one.)
 
 use algesurf_mesh::TriMesh;
 use glam::DVec3;
