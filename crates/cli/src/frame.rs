@@ -17,46 +17,16 @@
 //! `algesurf_hull::HullError::CoordinatesOutOfRange`; the commands never hand it one.)
 
 use algesurf_mesh::TriMesh;
+pub(crate) use algesurf_mesh::geometry::{
+    exact_scale_exponent as scale_exponent, power_of_two, scale_by_power_of_two,
+};
 use glam::DVec3;
 use rayon::prelude::*;
 
-/// Inputs whose largest absolute coordinate lies in `[2^-RANGE, 2^RANGE]` are built at their
-/// own scale.
-const RANGE: i32 = 64;
-
-/// `2^e`, exactly (`e` in `[-1022, 1023]`, the exponents of normal numbers).
-pub(crate) fn power_of_two(e: i32) -> f64 {
-    debug_assert!((-1022..=1023).contains(&e), "2^{e} is not a normal f64");
-    f64::from_bits(((1023 + e) as u64) << 52)
-}
-
-/// The exponent `e` to build `points` at `2^-e` times their scale: `0` when their largest
-/// finite absolute coordinate `m` lies in `[2^-64, 2^64]` (or all are 0 or not finite), else
-/// the exponent of `m` (so that `m · 2^-e` lies in `[1, 2)`), kept within `[-1022, 1022]` so
-/// that both `2^e` and `2^-e` are normal numbers.
-pub(crate) fn scale_exponent(points: &[DVec3]) -> i32 {
-    let m = points
-        .iter()
-        .flat_map(|p| p.to_array())
-        .filter(|x| x.is_finite())
-        .map(f64::abs)
-        .fold(0.0, f64::max);
-    if m == 0.0 || (power_of_two(-RANGE)..=power_of_two(RANGE)).contains(&m) {
-        return 0;
-    }
-    // The biased exponent field; 0 for subnormal numbers, which are below 2^-1022 anyway.
-    let biased = ((m.to_bits() >> 52) & 0x7ff) as i32;
-    (biased - 1023).clamp(-1022, 1022)
-}
-
-/// Multiplies `points` by `2^-exponent` (exact, but for coordinates the scaling takes below
-/// `2^-1022`: an input spanning more than ~2^1000 between its largest and its smallest
-/// non-zero coordinate loses the smallest ones' last bits, far below its own rounding).
+/// Multiplies `points` by `2^-exponent` ([`scale_by_power_of_two`]: exact but for results
+/// below `2^-1022`).
 pub(crate) fn scale_down(points: &mut [DVec3], exponent: i32) {
-    if exponent != 0 {
-        let s = power_of_two(-exponent);
-        points.iter_mut().for_each(|p| *p *= s);
-    }
+    scale_by_power_of_two(points, -exponent);
 }
 
 /// Where a build's coordinates are in the input's: `input = (build + origin) · 2^exponent`.

@@ -133,6 +133,70 @@ impl Aabb {
     }
 }
 
+/// Inputs whose largest absolute coordinate lies in `[2^-64, 2^64]` keep their scale
+/// ([`exact_scale_exponent`]).
+pub const ORDINARY_SCALE_EXPONENT: i32 = 64;
+
+/// `2^e`, exactly, for `e` in `[-1022, 1023]` (the exponents of normal `f64`s; others are
+/// clamped to that range).
+///
+/// ```
+/// use algesurf_mesh::geometry::power_of_two;
+/// assert_eq!(power_of_two(-3), 0.125);
+/// assert_eq!(power_of_two(1023), 2f64.powi(1023));
+/// ```
+pub fn power_of_two(e: i32) -> f64 {
+    f64::from_bits(((1023 + e.clamp(-1022, 1023)) as u64) << 52)
+}
+
+/// The exponent `e` at which to work on `points` scaled by `2^-e`: 0 when their largest
+/// finite absolute coordinate `m` lies in `[2^-64, 2^64]` (or is 0), else the exponent of `m`,
+/// so that `m · 2^-e` lies in `[1, 2)` (kept within `[-1022, 1022]`, where both `2^e` and
+/// `2^-e` are normal numbers).
+///
+/// Why: this crate's tolerances are relative to the mesh's size, and scaling by a power of
+/// two is exact, so repairing or validating a scaled copy and scaling the result back gives
+/// the same result, bit for bit, as long as nothing leaves `f64`'s range. What does leave it
+/// are the products of lengths: areas (and the squared diagonal they are compared with)
+/// underflow to 0 for coordinates near `2^-270` and overflow near `2^260` in the A-patch
+/// construction's fourfold products. Ordinary inputs (5.4e-20 to 1.8e19 in any unit) keep
+/// their own scale, so that nothing at all changes for them.
+///
+/// ```
+/// use algesurf_mesh::geometry::{exact_scale_exponent, power_of_two};
+/// use glam::DVec3;
+/// assert_eq!(exact_scale_exponent(&[DVec3::new(1e6, -3.0, 0.5)]), 0);
+/// let tiny = [DVec3::new(3.0 * power_of_two(-300), 0.0, -1e-95)];
+/// let e = exact_scale_exponent(&tiny);
+/// assert_eq!(e, -299); // 3·2^-300 = 1.5·2^-299
+/// assert_eq!(tiny[0].x * power_of_two(-e), 1.5);
+/// ```
+pub fn exact_scale_exponent(points: &[DVec3]) -> i32 {
+    let m = points
+        .iter()
+        .flat_map(|p| p.to_array())
+        .filter(|x| x.is_finite())
+        .map(f64::abs)
+        .fold(0.0, f64::max);
+    let ordinary = power_of_two(-ORDINARY_SCALE_EXPONENT)..=power_of_two(ORDINARY_SCALE_EXPONENT);
+    if m == 0.0 || ordinary.contains(&m) {
+        return 0;
+    }
+    // The biased exponent field; 0 for subnormal numbers, which are below 2^-1022 anyway.
+    let biased = ((m.to_bits() >> 52) & 0x7ff) as i32;
+    (biased - 1023).clamp(-1022, 1022)
+}
+
+/// Multiplies `points` by `2^e`: exact, but for results below `2^-1022` (a subnormal result
+/// keeps fewer bits), which only an input spanning ~2^1000 between its largest and its
+/// smallest non-zero coordinate meets, far below its own rounding.
+pub fn scale_by_power_of_two(points: &mut [DVec3], e: i32) {
+    if e != 0 {
+        let s = power_of_two(e);
+        points.iter_mut().for_each(|p| *p *= s);
+    }
+}
+
 /// Newell's normal of a polygon: a vector perpendicular to the best-fit plane whose length is
 /// twice the polygon's (vector) area. Robust for non-convex and slightly non-planar polygons.
 pub fn newell_normal(points: &[DVec3]) -> DVec3 {

@@ -142,10 +142,21 @@ pub fn loop_limit_normal(mesh: &TriMesh, v: u32) -> Option<DVec3> {
 
 /// Unit vertex normals by `method` (see [`NormalMethod`]).
 ///
+/// The normals do not depend on the mesh's scale: a mesh whose coordinates are beyond
+/// `2^±64` gets those of a copy scaled by a power of two
+/// ([`crate::geometry::exact_scale_exponent`]), where its face areas neither underflow nor
+/// overflow (at `2^±300` they had made every normal zero); others are computed as they are.
+///
 /// # Errors
 /// [`MeshError::MissingNormals`] for [`NormalMethod::FromFile`] when the mesh carries no
 /// normals.
 pub fn vertex_normals(mesh: &TriMesh, method: NormalMethod) -> Result<Vec<DVec3>, MeshError> {
+    let e = crate::geometry::exact_scale_exponent(mesh.positions());
+    if e != 0 {
+        let mut scaled = mesh.clone();
+        crate::geometry::scale_by_power_of_two(scaled.positions_mut(), -e);
+        return vertex_normals(&scaled, method);
+    }
     let area = area_sums(mesh);
     let out = match method {
         NormalMethod::Area => area.iter().map(|&n| unit_or_zero(n)).collect(),

@@ -3,7 +3,9 @@
 //! the output back to the input.
 
 use crate::fasthash::{FaceKey, FastMap, FastSet};
-use crate::geometry::{Aabb, newell_normal, signed_volume};
+use crate::geometry::{
+    Aabb, exact_scale_exponent, newell_normal, power_of_two, scale_by_power_of_two, signed_volume,
+};
 use crate::topology::Topology;
 use crate::triangulate::triangulate_polygon;
 use crate::validate::DEFAULT_DEGENERATE_AREA;
@@ -379,9 +381,31 @@ fn map_property(p: &Property, map: &[u32]) -> Property {
 /// triangle mesh ([`crate::validate()`] finds nothing) unless a component is non-orientable
 /// (counted in [`RepairReport::non_orientable_components`]).
 ///
+/// Every tolerance is relative to the mesh's size, and a mesh whose coordinates are beyond
+/// `2^±64` is repaired as a copy scaled by a power of two, with the result scaled back
+/// ([`crate::geometry::exact_scale_exponent`]; exact): a tiny mesh's areas no longer underflow
+/// to "degenerate".
+///
 /// # Errors
 /// [`MeshError::TooLarge`] when the mesh exceeds 32-bit indices.
 pub fn repair(mesh: &PolygonMesh, options: &RepairOptions) -> Result<Repaired, MeshError> {
+    let e = exact_scale_exponent(&mesh.positions);
+    if e == 0 {
+        return repair_at_scale(mesh, options);
+    }
+    let mut scaled = mesh.clone();
+    scale_by_power_of_two(&mut scaled.positions, -e);
+    let mut repaired = repair_at_scale(&scaled, options)?;
+    scale_by_power_of_two(&mut repaired.mesh.positions, e);
+    let s = power_of_two(e);
+    for (_, d) in &mut repaired.report.moved_vertices {
+        *d *= s;
+    }
+    Ok(repaired)
+}
+
+/// [`repair`] of a mesh at its own scale.
+fn repair_at_scale(mesh: &PolygonMesh, options: &RepairOptions) -> Result<Repaired, MeshError> {
     let nv = mesh.vertex_count();
     if nv >= u32::MAX as usize || mesh.face_count() >= u32::MAX as usize {
         return Err(MeshError::TooLarge(nv.max(mesh.face_count())));

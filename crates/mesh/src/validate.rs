@@ -3,7 +3,7 @@
 
 use crate::PolygonMesh;
 use crate::fasthash::{FaceKey, FastMap};
-use crate::geometry::{Aabb, newell_normal};
+use crate::geometry::{Aabb, exact_scale_exponent, newell_normal, power_of_two};
 use crate::topology::{Component, Topology};
 use glam::DVec3;
 use std::fmt;
@@ -320,16 +320,32 @@ pub fn validate_with(mesh: &PolygonMesh, options: &ValidationOptions) -> Validat
             findings.push(Finding::NonFiniteVertex { vertex: v as u32 });
         }
     }
-    let threshold = options.degenerate_area * diag * diag;
+    // Areas of a mesh beyond 2^±64 are measured on its points scaled by a power of two
+    // (`exact_scale_exponent`; exact), where they neither underflow nor overflow, and
+    // reported at the mesh's scale: nothing changes for other meshes (`e = 0`).
+    let e = exact_scale_exponent(&mesh.positions);
+    let (down, up) = (power_of_two(-e), power_of_two(e));
+    let scaled_diagonal = if e == 0 {
+        diag
+    } else {
+        Aabb {
+            min: bbox.min * down,
+            max: bbox.max * down,
+        }
+        .diagonal()
+    };
+    let threshold = options.degenerate_area * scaled_diagonal * scaled_diagonal;
     let mut pts: Vec<DVec3> = Vec::new();
     // Keys compare the sorted vertex ids exactly; see `fasthash` for why the fast hasher.
     let mut seen: FastMap<FaceKey, u32> = FastMap::default();
     for (k, &f) in ids.iter().enumerate() {
         let face = &corners[offsets[k] as usize..offsets[k + 1] as usize];
         pts.clear();
-        pts.extend(face.iter().map(|&v| mesh.positions[v as usize]));
+        pts.extend(face.iter().map(|&v| mesh.positions[v as usize] * down));
         let area = 0.5 * newell_normal(&pts).length();
         if area.is_finite() && area <= threshold {
+            // Back at the mesh's scale: `up` twice, as `up²` can leave the range.
+            let area = area * up * up;
             findings.push(Finding::DegenerateFace { face: f, area });
         }
         let key = FaceKey::new(face);

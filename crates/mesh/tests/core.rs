@@ -258,6 +258,94 @@ fn repair_welds_orients_and_reports() {
     }
 }
 
+/// Repair and validation are the same at every scale. An icosphere exploded into separate
+/// triangles (to be welded), with a collinear face (to be dropped as degenerate) and a quad (to
+/// be triangulated), scaled by `2^k`: at `2^±300` it gets the unit mesh's findings and
+/// repairs, and the repaired positions are the unit ones scaled, bit for bit. At `2^-300`
+/// every face had been "degenerate (area 0)", its areas underflowing, and repair dropped
+/// them all.
+#[test]
+fn repair_and_validation_do_not_depend_on_the_scale() {
+    let s = icosphere(1);
+    let mut unit = PolygonMesh::new();
+    for t in s.triangles() {
+        let base = unit.positions.len() as u32;
+        unit.positions.extend(t.map(|v| s.positions()[v as usize]));
+        unit.push_face(&[base, base + 1, base + 2]);
+    }
+    let base = unit.positions.len() as u32;
+    unit.positions.extend([
+        DVec3::new(3.0, 0.0, 0.0),
+        DVec3::new(4.0, 0.0, 0.0),
+        DVec3::new(5.0, 0.0, 0.0),
+        DVec3::new(3.0, 2.0, 0.0),
+        DVec3::new(4.0, 2.0, 0.5),
+        DVec3::new(4.0, 3.0, 0.0),
+        DVec3::new(3.0, 3.0, 0.0),
+    ]);
+    unit.push_face(&[base, base + 1, base + 2]);
+    unit.push_face(&[base + 3, base + 4, base + 5, base + 6]);
+    let unit_findings = validate(&unit).findings;
+    let sliver = s.face_count() as u32;
+    let unit_repair = repair(&unit, &RepairOptions::default()).unwrap();
+    assert!(
+        unit_findings
+            .iter()
+            .any(|f| matches!(f, Finding::DegenerateFace { face, .. } if *face == sliver))
+    );
+    assert!(!unit_repair.report.welded.is_empty());
+    assert_eq!(unit_repair.report.dropped_degenerate_faces, [sliver]);
+    for k in [-300, 300] {
+        let scale = 2f64.powi(k);
+        let mut m = unit.clone();
+        m.positions.iter_mut().for_each(|p| *p *= scale);
+        let findings = validate(&m).findings;
+        assert_eq!(findings.len(), unit_findings.len(), "2^{k}: {findings:?}");
+        for (a, b) in findings.iter().zip(&unit_findings) {
+            match (a, b) {
+                (
+                    Finding::DegenerateFace { face, area },
+                    Finding::DegenerateFace { face: g, area: h },
+                ) => assert!(face == g && *area == h * scale * scale, "2^{k}: {a:?}"),
+                _ => assert_eq!(a, b, "2^{k}"),
+            }
+        }
+        let r = repair(&m, &RepairOptions::default()).unwrap();
+        assert_eq!(r.report, unit_repair.report, "2^{k}");
+        assert!(r.mesh.faces().eq(unit_repair.mesh.faces()), "2^{k}");
+        let moved = (r.mesh.positions.iter().zip(&unit_repair.mesh.positions))
+            .filter(|(p, q)| **p != **q * scale)
+            .count();
+        assert_eq!(moved, 0, "2^{k}: positions not the unit ones scaled");
+    }
+}
+
+/// Vertex normals are directions: those of an icosphere scaled by `2^±300` are the unit
+/// one's, bit for bit, by every method (they were all zero there: the face areas underflowed
+/// or overflowed).
+#[test]
+fn vertex_normals_do_not_depend_on_the_scale() {
+    let m = icosphere(2);
+    for method in [
+        NormalMethod::Area,
+        NormalMethod::Angle,
+        NormalMethod::Loop,
+        NormalMethod::LoopButterfly,
+    ] {
+        let unit = vertex_normals(&m, method).unwrap();
+        for k in [-300, -20, 20, 300] {
+            let mut scaled = m.clone();
+            let s = 2f64.powi(k);
+            scaled.positions_mut().iter_mut().for_each(|p| *p *= s);
+            assert_eq!(
+                vertex_normals(&scaled, method).unwrap(),
+                unit,
+                "{method:?}, 2^{k}"
+            );
+        }
+    }
+}
+
 /// Faces dropped as invalid (fewer than three corners, a non-finite or missing vertex), as
 /// collapsed (welded corners repeat) or as degenerate (no area) are reported by input id in
 /// face order, and the rest kept in face order: on 300 copies of a block of seven faces, so
