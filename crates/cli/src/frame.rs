@@ -17,22 +17,15 @@
 //! `algesurf_hull::HullError::CoordinatesOutOfRange`; the commands never hand it one.)
 
 use algesurf_mesh::TriMesh;
-pub(crate) use algesurf_mesh::geometry::{
-    exact_scale_exponent as scale_exponent, power_of_two, scale_by_power_of_two,
-};
+use algesurf_mesh::geometry::{power_of_two, scale_by_power_of_two};
 use glam::DVec3;
 use rayon::prelude::*;
-
-/// Multiplies `points` by `2^-exponent` ([`scale_by_power_of_two`]: exact but for results
-/// below `2^-1022`).
-pub(crate) fn scale_down(points: &mut [DVec3], exponent: i32) {
-    scale_by_power_of_two(points, -exponent);
-}
 
 /// Where a build's coordinates are in the input's: `input = (build + origin) · 2^exponent`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct LocalFrame {
-    /// The power of two the input was scaled by, `2^-exponent` ([`scale_exponent`]).
+    /// The power of two the input was scaled by, `2^-exponent`
+    /// ([`algesurf_mesh::geometry::exact_scale_exponent`]).
     pub exponent: i32,
     /// The exact local origin of the scaled input
     /// ([`algesurf_mesh::Aabb::exact_local_origin`]).
@@ -55,19 +48,12 @@ impl LocalFrame {
 
     /// Scales `points` (moved back by [`LocalFrame::restore_origin`]) to the input's scale.
     pub(crate) fn restore_scale(&self, points: &mut [DVec3]) {
-        if self.exponent != 0 {
-            let s = power_of_two(self.exponent);
-            points.par_iter_mut().for_each(|p| *p *= s);
-        }
+        scale_by_power_of_two(points, self.exponent);
     }
 
     /// A length measured in the build's coordinates, in the input's.
     pub(crate) fn length(&self, d: f64) -> f64 {
-        if self.exponent == 0 {
-            d
-        } else {
-            d * power_of_two(self.exponent)
-        }
+        d * power_of_two(self.exponent)
     }
 
     /// Moves the mesh `tri` and the surface points `points` from the build's coordinates back
@@ -84,56 +70,32 @@ impl LocalFrame {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use algesurf_mesh::geometry::exact_scale_exponent;
 
+    /// An input taken into a frame as `build` does (scaled by `2^-e`, then moved to its exact
+    /// local origin) comes back bit for bit, and lengths scale with it.
     #[test]
-    fn powers_of_two_are_exact() {
-        for e in [-1022, -64, -1, 0, 1, 52, 64, 1023] {
-            assert_eq!(power_of_two(e), 2f64.powi(e), "2^{e}");
-        }
-    }
-
-    #[test]
-    fn ordinary_inputs_keep_their_scale() {
-        let pts = |m: f64| vec![DVec3::new(m, -0.5 * m, 0.0), DVec3::ZERO];
-        for m in [
-            power_of_two(-64),
-            1e-9,
-            1.0,
-            1000.0,
-            6.0e6,
-            power_of_two(64),
-        ] {
-            assert_eq!(scale_exponent(&pts(m)), 0, "largest coordinate {m:e}");
-        }
-        assert_eq!(scale_exponent(&[DVec3::ZERO]), 0);
-        assert_eq!(
-            scale_exponent(&[DVec3::new(f64::NAN, f64::INFINITY, 0.0)]),
-            0
-        );
-    }
-
-    #[test]
-    fn extreme_inputs_are_brought_to_one() {
-        for m in [1e-300, 3.0e-25, 2.5e30, 1e300, f64::MAX, 5e-324] {
-            let mut p = vec![DVec3::new(0.25 * m, -m, m / 3.0)];
-            let e = scale_exponent(&p);
-            assert_ne!(e, 0, "{m:e}");
-            let before = p[0];
-            scale_down(&mut p, e);
-            let largest = p[0].abs().max_element();
-            // In [1, 2), but for the ends of the range, where the exponent is clamped to
-            // ±1022: f64::MAX comes to [2, 4), the subnormal 5e-324 to 2^-52.
-            if m >= f64::MIN_POSITIVE {
-                assert!((1.0..4.0).contains(&largest), "{m:e} → {largest:e}");
-            }
-            let frame = LocalFrame {
-                exponent: e,
-                origin: DVec3::ZERO,
-            };
-            let mut back = p.clone();
-            frame.restore_scale(&mut back);
-            assert_eq!(back[0], before, "{m:e}: scaled and back, bit for bit");
-            assert_eq!(frame.length(largest), before.abs().max_element());
+    fn a_frame_moves_back_exactly() {
+        for (shift, m) in [(0.0, 1.0), (0.0, 1e-300), (3.0, 2.5e30), (1e5, 1e300)] {
+            let input: Vec<DVec3> = [
+                DVec3::new(0.25, -1.0, 1.0 / 3.0),
+                DVec3::new(-0.5, 0.75, 0.125),
+                DVec3::new(0.1, 0.2, -0.3),
+            ]
+            .iter()
+            .map(|p| (*p + shift) * m)
+            .collect();
+            let mut tri = TriMesh::new(input.clone(), vec![[0, 1, 2]]).unwrap();
+            let exponent = exact_scale_exponent(tri.positions());
+            scale_by_power_of_two(tri.positions_mut(), -exponent);
+            let origin = tri.bounding_box().exact_local_origin();
+            tri.positions_mut().iter_mut().for_each(|p| *p -= origin);
+            let frame = LocalFrame { exponent, origin };
+            let mut points = tri.positions().to_vec();
+            frame.move_to_input(&mut tri, &mut points);
+            assert_eq!(tri.positions(), &input[..], "shift {shift}, size {m:e}");
+            assert_eq!(points, input, "shift {shift}, size {m:e}");
+            assert_eq!(frame.length(2.0), 2.0 * power_of_two(exponent));
         }
     }
 }

@@ -438,8 +438,8 @@ pub(crate) fn build(
             let mut mesh = mesh?;
             // Coordinates beyond 2^±64 are built at a power of two's scale (`frame.rs`), from
             // the repair on: its area threshold squares the bounding box's diagonal.
-            exponent = crate::frame::scale_exponent(&mesh.positions);
-            crate::frame::scale_down(&mut mesh.positions, exponent);
+            exponent = algesurf_mesh::geometry::exact_scale_exponent(&mesh.positions);
+            algesurf_mesh::geometry::scale_by_power_of_two(&mut mesh.positions, -exponent);
             let (repaired, dt, usage) = measured("repairing", progress, |_| {
                 repair(&mesh, &RepairOptions::default())
             });

@@ -7,6 +7,7 @@ use crate::classify::{
 use crate::{ApexPlacement, HullError, HullOptions};
 use algesurf_bb::Tetrahedron;
 use algesurf_mesh::TriMesh;
+use algesurf_mesh::geometry::power_of_two;
 use algesurf_mesh::parallel::{
     collect_first_error_into_with_progress, collect_first_error_with_progress,
 };
@@ -172,7 +173,7 @@ pub(crate) fn check_input(mesh: &TriMesh, normals: &[DVec3]) -> Result<(), HullE
     // A fourfold product of lengths up to 2·2^252 (and a sum of three) stays below 2^1023,
     // and one of 2^-252 above 2^-1022, f64's normal range (the finite checks above make
     // `largest` a number).
-    let range = 2f64.powi(-COORDINATE_EXPONENT_RANGE)..=2f64.powi(COORDINATE_EXPONENT_RANGE);
+    let range = power_of_two(-COORDINATE_EXPONENT_RANGE)..=power_of_two(COORDINATE_EXPONENT_RANGE);
     if largest != 0.0 && !range.contains(&largest) {
         return Err(HullError::CoordinatesOutOfRange { largest });
     }

@@ -233,3 +233,54 @@ pub fn signed_volume(origin: DVec3, tris: impl IntoIterator<Item = [DVec3; 3]>) 
     }
     v / 6.0
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn powers_of_two_are_exact() {
+        for e in [-1022, -64, -1, 0, 1, 52, 64, 1023] {
+            assert_eq!(power_of_two(e), 2f64.powi(e), "2^{e}");
+        }
+    }
+
+    #[test]
+    fn ordinary_inputs_keep_their_scale() {
+        let pts = |m: f64| vec![DVec3::new(m, -0.5 * m, 0.0), DVec3::ZERO];
+        for m in [
+            power_of_two(-64),
+            1e-9,
+            1.0,
+            1000.0,
+            6.0e6,
+            power_of_two(64),
+        ] {
+            assert_eq!(exact_scale_exponent(&pts(m)), 0, "largest coordinate {m:e}");
+        }
+        assert_eq!(exact_scale_exponent(&[DVec3::ZERO]), 0);
+        assert_eq!(
+            exact_scale_exponent(&[DVec3::new(f64::NAN, f64::INFINITY, 0.0)]),
+            0
+        );
+    }
+
+    #[test]
+    fn extreme_inputs_are_brought_to_one_and_back() {
+        for m in [1e-300, 3.0e-25, 2.5e30, 1e300, f64::MAX, 5e-324] {
+            let mut p = vec![DVec3::new(0.25 * m, -m, m / 3.0)];
+            let e = exact_scale_exponent(&p);
+            assert_ne!(e, 0, "{m:e}");
+            let before = p[0];
+            scale_by_power_of_two(&mut p, -e);
+            let largest = p[0].abs().max_element();
+            // In [1, 2), but for the ends of the range, where the exponent is clamped to
+            // ±1022: f64::MAX comes to [2, 4), the subnormal 5e-324 to 2^-52.
+            if m >= f64::MIN_POSITIVE {
+                assert!((1.0..4.0).contains(&largest), "{m:e} → {largest:e}");
+            }
+            scale_by_power_of_two(&mut p, e);
+            assert_eq!(p[0], before, "{m:e}: scaled and back, bit for bit");
+        }
+    }
+}

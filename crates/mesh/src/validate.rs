@@ -306,7 +306,6 @@ pub fn validate_with(mesh: &PolygonMesh, options: &ValidationOptions) -> Validat
     let (ids, offsets, corners) = well_formed(mesh, &mut findings);
     let nv = mesh.vertex_count();
     let bbox = Aabb::from_points(&mesh.positions);
-    let diag = bbox.diagonal();
     let mut sizes: Vec<(usize, usize)> = Vec::new();
     for face in mesh.faces() {
         match sizes.iter_mut().find(|(k, _)| *k == face.len()) {
@@ -325,15 +324,11 @@ pub fn validate_with(mesh: &PolygonMesh, options: &ValidationOptions) -> Validat
     // reported at the mesh's scale: nothing changes for other meshes (`e = 0`).
     let e = exact_scale_exponent(&mesh.positions);
     let (down, up) = (power_of_two(-e), power_of_two(e));
-    let scaled_diagonal = if e == 0 {
-        diag
-    } else {
-        Aabb {
-            min: bbox.min * down,
-            max: bbox.max * down,
-        }
-        .diagonal()
-    };
+    let scaled_diagonal = Aabb {
+        min: bbox.min * down,
+        max: bbox.max * down,
+    }
+    .diagonal();
     let threshold = options.degenerate_area * scaled_diagonal * scaled_diagonal;
     let mut pts: Vec<DVec3> = Vec::new();
     // Keys compare the sorted vertex ids exactly; see `fasthash` for why the fast hasher.

@@ -20,6 +20,22 @@ use rayon::prelude::*;
 /// `docs/PERFORMANCE.md`, sixth pass).
 const TET_LEAF_SIZE: usize = 16;
 
+/// Tetrahedron `s` (0 or 1) of an element's sides, positive before negative: the numbering
+/// of [`SimplicialHull::element_tets`], which lists the present ones.
+fn nth_side(sides: [Option<(Side, &Tetrahedron)>; 2], s: u8) -> (Side, &Tetrahedron) {
+    match sides {
+        [Some(p), Some(n)] => {
+            if s == 0 {
+                p
+            } else {
+                n
+            }
+        }
+        [Some(t), None] | [None, Some(t)] => t,
+        [None, None] => unreachable!("an element's tetrahedra are counted before they are named"),
+    }
+}
+
 impl SimplicialHull {
     /// Element `k` (face `k` for `k < faces().len()`, else edge `k − faces().len()`) and its
     /// tetrahedra by reference, `[positive, negative]`: the one place that reads the records,
@@ -55,19 +71,7 @@ impl SimplicialHull {
     /// (`element_tets(k).nth(s)`, a listed tetrahedron built and copied), the second read
     /// took 22 ms of the bunny's check; by reference it takes 13 ms (two threads).
     fn element_side(&self, k: usize, s: u8) -> (Side, &Tetrahedron) {
-        match self.element_sides(k).1 {
-            [Some(p), Some(n)] => {
-                if s == 0 {
-                    p
-                } else {
-                    n
-                }
-            }
-            [Some(t), None] | [None, Some(t)] => t,
-            [None, None] => {
-                unreachable!("an element's tetrahedra are counted before they are named")
-            }
-        }
+        nth_side(self.element_sides(k).1, s)
     }
 
     /// The tetrahedra of element `k`, positive before negative (see
@@ -98,8 +102,8 @@ impl SimplicialHull {
     /// Tetrahedron `s` (0 or 1: positive before negative) of element `k`, as numbered by
     /// [`SimplicialHull::element_tets`].
     fn element_tet(&self, (k, s): (u32, u8)) -> HullTetrahedron {
-        let (element, _) = self.element_sides(k as usize);
-        let (side, t) = self.element_side(k as usize, s);
+        let (element, sides) = self.element_sides(k as usize);
+        let (side, t) = nth_side(sides, s);
         HullTetrahedron {
             element,
             side,

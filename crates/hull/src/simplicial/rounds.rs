@@ -641,9 +641,9 @@ mod tests {
     }
 
     /// Looking edges up from a hint gives what a binary search gives (and `Current::edge`,
-    /// which searches at once), whatever order the keys are asked in: ascending with gaps short and long (the walk and the search after
-    /// it), descending, repeated, keys the first round did not make, and keys made or
-    /// removed since, which the changes answer.
+    /// which searches at once), whatever order the keys are asked in: ascending with gaps
+    /// short and long (the walk and the search after it), descending, repeated, keys the
+    /// first round did not make, and keys made or removed since, which the changes answer.
     #[test]
     fn edges_found_from_a_hint_are_those_a_search_finds() {
         let mut r = algesurf_mesh::test_rng::Lcg(5);
