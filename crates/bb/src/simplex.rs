@@ -21,6 +21,20 @@ use glam::{DVec2, DVec3};
 /// invariant under scaling and translation, so it suits meshes of any size.
 pub const DEGENERACY_TOLERANCE: f64 = 1e-10;
 
+/// The squared longest edges `L²` whose simplices [`Simplex::new`] builds in closed form
+/// directly: `L ∈ [2^-240, 2^240]`. The closed forms multiply up to four lengths
+/// (`|e_0 × e_1|² ∝ L⁴` for a triangle, `det E ∝ L³` for a tetrahedron), and `L⁴` stays within
+/// `[2^-960, 2^960]`, clear of overflow and of the subnormal range at the degeneracy
+/// tolerance's `10^-20 L⁴`. Simplices outside it are built on a copy scaled by a power of two
+/// (`Simplex::rescaled`).
+const IN_RANGE_EDGES_SQUARED: std::ops::RangeInclusive<f64> =
+    f64::from_bits((1023 - 480) << 52)..=f64::from_bits((1023 + 480) << 52);
+
+/// `2^e` for `e ∈ [-1022, 1023]`, exactly (the normal powers of two).
+fn power_of_two(e: i32) -> f64 {
+    f64::from_bits(((1023 + e) as u64) << 52)
+}
+
 /// A simplex with N vertices in R^3 (N = 2 segment, 3 triangle, 4 tetrahedron).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Simplex<const N: usize> {
@@ -48,7 +62,24 @@ impl<const N: usize> Simplex<N> {
     /// let tau = t.barycentric(DVec3::new(0.25, 0.25, 0.25));
     /// assert!((tau[0] - 0.25).abs() < 1e-15);
     /// assert!(Tetrahedron::new([DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::X + DVec3::Y]).is_err());
+    /// // Any size f64 can invert: scaling by 2^e scales the barycentric gradients by 2^-e.
+    /// let s = 2f64.powi(900);
+    /// let huge = Tetrahedron::new(t.vertices().map(|v| v * s))?;
+    /// assert_eq!(huge.barycentric_gradients()[1], t.barycentric_gradients()[1] / s);
+    /// # Ok::<(), algesurf_bb::BbError>(())
     /// ```
+    ///
+    /// # Range
+    /// Nothing here depends on the unit: the tolerance is relative, and scaling the vertices
+    /// by a power of two scales the barycentric gradients by its inverse, bit for bit, while
+    /// the coordinates stay normal numbers (tested from edges of `2^-1018` to `2^1018`).
+    ///
+    /// # Errors
+    /// [`BbError::NonFinite`] for a NaN or infinite coordinate;
+    /// [`BbError::DegenerateSimplex`] below the tolerance; [`BbError::InvalidArgument`] when
+    /// the edge vectors' largest coordinate is outside `[2^-1022, 2^1019)`, where the
+    /// barycentric gradients (of size at least `1/L`) would overflow or be subnormal, or the
+    /// edge vectors themselves overflow.
     pub fn new(vertices: [DVec3; N]) -> Result<Self, BbError> {
         const { assert!(N >= 2 && N <= 4, "simplices have 2, 3 or 4 vertices in R^3") };
         if vertices.iter().any(|v| !v.is_finite()) {
@@ -56,6 +87,17 @@ impl<const N: usize> Simplex<N> {
                 what: "simplex vertex",
             });
         }
+        match Self::in_range(vertices) {
+            Some(simplex) => simplex,
+            None => Self::rescaled(vertices),
+        }
+    }
+
+    /// [`Simplex::new`] on finite vertices, or `None` when the longest edge `L` is outside
+    /// `[2^-240, 2^240]` ([`IN_RANGE_EDGES_SQUARED`]): there the closed forms below, products of up to four lengths
+    /// (`|e_0 × e_1|²` of a triangle), could overflow or underflow and must not be trusted.
+    #[inline]
+    fn in_range(vertices: [DVec3; N]) -> Option<Result<Self, BbError>> {
         // The edge vectors from v_0 (N − 1 ≤ 3 of them; a fixed array, as this runs for every
         // tetrahedron of a hull and every sub-tetrahedron of a split face).
         let mut e = [DVec3::ZERO; 3];
@@ -70,6 +112,9 @@ impl<const N: usize> Simplex<N> {
                 longest_squared =
                     max_not_nan(longest_squared, vertices[a].distance_squared(vertices[b]));
             }
+        }
+        if !IN_RANGE_EDGES_SQUARED.contains(&longest_squared) {
+            return None;
         }
         // One square root for the six edges: a correctly rounded square root is monotone, so
         // the root of the largest square is the largest of the roots, bit for bit.
@@ -106,16 +151,60 @@ impl<const N: usize> Simplex<N> {
             0.0
         };
         if relative_measure.is_nan() || relative_measure < DEGENERACY_TOLERANCE {
-            return Err(BbError::DegenerateSimplex {
+            return Some(Err(BbError::DegenerateSimplex {
                 relative_measure,
                 tolerance: DEGENERACY_TOLERANCE,
-            });
+            }));
         }
         duals[0] = -duals[1..].iter().copied().sum::<DVec3>();
-        Ok(Simplex {
+        Some(Ok(Simplex {
             vertices,
             duals,
             relative_measure,
+        }))
+    }
+
+    /// [`Simplex::new`] for a simplex whose longest edge is outside `[2^-240, 2^240]`: the
+    /// simplex is translated to `v_0` and scaled by `s = 2^-k`, `2^k` the largest power of two
+    /// at most its largest edge-vector coordinate. Then every edge-vector coordinate is in
+    /// `(-2, 2)` and the largest in `[1, 2)`, so the longest edge is in `[1, 4√3)`, in range.
+    /// Scaling by a power of two is exact, and the dual vectors of `E = E'/s` are those of `E'`
+    /// times `s`, so the result is, bit for bit, the scaled simplex's duals scaled back, and
+    /// its relative measure, which does not depend on the scale, the scaled simplex's. Kept
+    /// out of the way of the ordinary sizes.
+    #[cold]
+    fn rescaled(vertices: [DVec3; N]) -> Result<Self, BbError> {
+        let edges = vertices.map(|v| v - vertices[0]);
+        let largest = edges
+            .iter()
+            .map(|e| e.abs().max_element())
+            .fold(0.0, f64::max);
+        if largest == 0.0 {
+            return Err(BbError::DegenerateSimplex {
+                relative_measure: 0.0,
+                tolerance: DEGENERACY_TOLERANCE,
+            });
+        }
+        // The exponent of `largest` (-1023 for a subnormal one; an overflowed edge, whose
+        // `largest` is infinite, has 1024).
+        let k = ((largest.to_bits() >> 52) & 0x7ff) as i32 - 1023;
+        // Below 2^-1022 the barycentric gradients, of size ≥ 1/L, can overflow; beyond 2^1018
+        // they can be subnormal (and beyond 2^1023 the edge vectors overflow).
+        if !(-1022..=1018).contains(&k) {
+            return Err(BbError::InvalidArgument(format!(
+                "the simplex's largest edge-vector coordinate is of order 2^{k}, beyond the \
+                 range of f64's barycentric coordinates (it must lie in [2^-1022, 2^1019))"
+            )));
+        }
+        let scale = power_of_two(-k);
+        let Some(scaled) = Self::in_range(edges.map(|e| e * scale)) else {
+            unreachable!("a simplex with edges in [1, 4√3) is in range");
+        };
+        let scaled = scaled?;
+        Ok(Simplex {
+            vertices,
+            duals: scaled.duals.map(|d| d * scale),
+            relative_measure: scaled.relative_measure,
         })
     }
 

@@ -299,6 +299,92 @@ fn degenerate_and_non_finite_simplices_are_rejected() {
     assert!(tiny.is_ok());
 }
 
+/// `2^e`, exactly, for the normal exponents.
+fn power_of_two(e: i32) -> f64 {
+    f64::from_bits(((1023 + e) as u64) << 52)
+}
+
+#[test]
+fn simplices_scale_exactly_over_the_whole_range_of_f64() {
+    use algesurf_bb::{BbError, Segment, Simplex, Tetrahedron, Triangle};
+    // Scaling a simplex by 2^e scales its barycentric gradients by 2^-e and leaves its
+    // barycentric coordinates and relative measure as they were, bit for bit, wherever the
+    // scaled coordinates are normal numbers: here (smallest coordinate 2^-4) from 2^-1018 to
+    // 2^1018, the end of the supported range (beyond 2^±240 the construction works on a scaled copy, where the
+    // products of four lengths in its closed forms would leave f64's range). A shape with no
+    // symmetry, off the origin, so that every dual has rounding in its last bits.
+    let base = [
+        DVec3::new(0.0, 0.0, 0.0),
+        DVec3::new(1.0, 0.125, -0.375),
+        DVec3::new(0.3125, 1.25, 0.0625),
+        DVec3::new(-0.1875, 0.4375, 0.9375),
+    ];
+    let p = DVec3::new(0.3, 0.2, 0.1);
+    fn same<const N: usize>(
+        a: &Simplex<N>,
+        b: &Simplex<N>,
+        e: i32,
+        p: DVec3,
+    ) -> Result<(), String> {
+        let s = power_of_two(-e);
+        for (da, db) in a
+            .barycentric_gradients()
+            .iter()
+            .zip(b.barycentric_gradients())
+        {
+            if *da * s != *db {
+                return Err(format!("2^{e}: gradient {db} is not {da} · 2^{}", -e));
+            }
+        }
+        if a.relative_measure() != b.relative_measure() {
+            return Err(format!("2^{e}: relative measure changed"));
+        }
+        if a.barycentric(p) != b.barycentric(p * power_of_two(e)) {
+            return Err(format!("2^{e}: barycentric coordinates changed"));
+        }
+        Ok(())
+    }
+    let tet = Tetrahedron::new(base).unwrap();
+    let tri = Triangle::new([base[0], base[1], base[2]]).unwrap();
+    let seg = Segment::new([base[0], base[1]]).unwrap();
+    for e in (-1018..=1018)
+        .step_by(7)
+        .chain([-1018, -241, -240, 240, 241, 1018])
+    {
+        let k = power_of_two(e);
+        let at = |i: usize| base[i] * k;
+        same(
+            &tet,
+            &Tetrahedron::new([at(0), at(1), at(2), at(3)]).unwrap(),
+            e,
+            p,
+        )
+        .unwrap();
+        same(&tri, &Triangle::new([at(0), at(1), at(2)]).unwrap(), e, p).unwrap();
+        same(&seg, &Segment::new([at(0), at(1)]).unwrap(), e, p).unwrap();
+    }
+    // Translated far from the origin, a huge simplex keeps its shape (not bit for bit: the
+    // vertices' translation rounds).
+    let far = DVec3::splat(1e300);
+    let small = Tetrahedron::new(base.map(|v| far + v * 1e299)).unwrap();
+    let tau = small.barycentric(small.point([0.25; 4]));
+    assert!(tau.iter().all(|t| (t - 0.25).abs() < 1e-12), "{tau:?}");
+    // Beyond the range the error says so instead of calling the simplex degenerate.
+    for k in [power_of_two(-1022) / 4.0, f64::MAX / 2.0] {
+        let err = Tetrahedron::new(base.map(|v| v * k)).unwrap_err();
+        assert!(
+            matches!(&err, BbError::InvalidArgument(m) if m.contains("range")),
+            "{err}"
+        );
+    }
+    // Vertices whose differences overflow.
+    let err = Segment::new([DVec3::splat(-f64::MAX), DVec3::splat(f64::MAX)]).unwrap_err();
+    assert!(
+        matches!(&err, BbError::InvalidArgument(m) if m.contains("range")),
+        "{err}"
+    );
+}
+
 #[test]
 fn facet_continuation_rejects_a_flat_neighbour() {
     let p = BbPoly::<f64, 4>::zero(3);
