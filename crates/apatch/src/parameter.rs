@@ -92,7 +92,14 @@ impl ApatchSurface {
             ))
         })?;
         let sign = if side == Side::Positive { 1.0 } else { -1.0 };
-        if !value.is_finite() || sign * value <= sign * param.bound {
+        if !value.is_finite() {
+            return Err(ApatchError::Degenerate(format!(
+                "face {face}, {} side: f_0003 = {value} is not admissible: it must be a finite \
+                 number",
+                side.name()
+            )));
+        }
+        if sign * value <= sign * param.bound {
             return Err(ApatchError::Degenerate(format!(
                 "face {face}, {} side: f_0003 = {value:e} is not admissible: it must be {} the \
                  single-sheet bound {:e} (Step 6)",

@@ -240,15 +240,38 @@ impl ApatchSurface {
         let mesh = self.hull().mesh();
         let nf = mesh.face_count();
         let ne = self.edges().len();
+        // The point count, counted before anything is allocated and without overflow: a
+        // resolution too large to number (or to count in a `usize`) is an error, not an
+        // allocation failure or an arithmetic overflow.
+        let per_face = n
+            .checked_add(1)
+            .zip(n.checked_add(2))
+            .and_then(|(a, b)| a.checked_mul(b))
+            .map(|a| a / 2);
+        let inner = (n - 1).checked_mul(m - 1);
+        let points = per_face
+            .and_then(|p| p.checked_mul(nf))
+            .zip(inner.and_then(|i| i.checked_mul(ne)))
+            .and_then(|(f, e)| f.checked_add(e))
+            .and_then(|p| p.checked_add(mesh.vertex_count()));
+        let (Some(inner), Some(points)) = (inner, points) else {
+            return Err(too_many_points(n, m));
+        };
+        if points >= u32::MAX as usize {
+            return Err(too_many_points(n, m));
+        }
+        if nf == 0 && (n, m) != (1, 1) {
+            // Without faces (and so without edges) the resolution changes nothing but the
+            // layout's record of it, and must not size a face grid that nothing reads (at
+            // n = 2^30 it would have 2^59 points).
+            let mut t = self.tessellate_with_progress(1, 1, progress)?;
+            if let Some(layout) = &mut t.layout {
+                (layout.n, layout.m) = (n, m);
+            }
+            return Ok(t);
+        }
         let grid = face_grid(n);
         let per_face = grid.len();
-        let inner = (n - 1) * (m - 1);
-        let face_ray_count = nf * per_face;
-        if face_ray_count + ne * inner + mesh.vertex_count() >= u32::MAX as usize {
-            return Err(ApatchError::Degenerate(
-                "the tessellation has more points than 32-bit vertex ids can number".into(),
-            ));
-        }
 
         // 1. Rays, in blocks of consecutive patches: each block's buffer is allocated and
         // written by the thread that evaluates it, and a patch's kernels are built once.
@@ -600,6 +623,14 @@ pub(crate) fn grid_point(g: &[usize; 3], n: usize) -> GridPoint {
 
 /// Face grids: all points (a, b, c), a + b + c = n, rows of decreasing a, within a row
 /// decreasing b.
+/// The error of a resolution whose tessellation has more points than `u32` vertex ids number.
+fn too_many_points(n: usize, m: usize) -> ApatchError {
+    ApatchError::Degenerate(format!(
+        "the tessellation at resolution {n} × {m} has more points than 32-bit vertex ids can \
+         number"
+    ))
+}
+
 pub(crate) fn face_grid(n: usize) -> Vec<[usize; 3]> {
     (0..=n)
         .rev()

@@ -172,7 +172,13 @@ fn a_value_on_the_wrong_side_of_the_bound_is_rejected_naming_the_face() {
     let msg = err.to_string();
     assert!(msg.contains(&format!("face {}", p.face)), "{msg}");
     assert!(msg.contains("not admissible"), "{msg}");
-    assert!(s.set_free_parameter(p.face, p.side, f64::NAN).is_err());
+    for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+        let msg = s
+            .set_free_parameter(p.face, p.side, bad)
+            .unwrap_err()
+            .to_string();
+        assert!(msg.contains("must be a finite number"), "{bad}: {msg}");
+    }
     // Nothing changed.
     assert_eq!(s.free_parameter(p.face, p.side).unwrap().value, p.value);
     assert_same(&before, &s.tessellate(3, 3).unwrap());

@@ -459,3 +459,44 @@ fn smoothing_commutes_with_scaling_by_a_power_of_two() {
         }
     }
 }
+
+#[test]
+fn a_resolution_too_large_to_number_is_an_error_before_anything_is_allocated() {
+    // Each of these asks for more than 2^32 points (or more than a `usize` counts); counting
+    // them must neither overflow nor start allocating the grids.
+    let (_, s) = sphere_surface(1);
+    for (n, m) in [
+        (usize::MAX, 2),
+        (2, usize::MAX),
+        (usize::MAX, usize::MAX),
+        (1 << 40, 1 << 40),
+        (1 << 16, 1 << 16),
+    ] {
+        let msg = s.tessellate(n, m).unwrap_err().to_string();
+        assert!(
+            msg.contains("more points than 32-bit vertex ids can number")
+                && msg.contains(&format!("resolution {n} × {m}")),
+            "{n} × {m}: {msg}"
+        );
+    }
+    assert!(
+        s.tessellate(0, 2)
+            .unwrap_err()
+            .to_string()
+            .contains("at least 1")
+    );
+    // A mesh without faces has no patch points at any resolution: its tessellation is its
+    // vertices, whatever the resolution.
+    for positions in [Vec::new(), vec![DVec3::X]] {
+        let normals = vec![DVec3::X; positions.len()];
+        let faceless = TriMesh::new(positions, Vec::new()).unwrap();
+        let e = ApatchSurface::new(&faceless, &normals, &SurfaceOptions::default()).unwrap();
+        let small = e.tessellate(3, 2).unwrap();
+        let huge = e.tessellate(1 << 30, 1 << 30).unwrap();
+        assert_eq!(huge.positions, faceless.positions());
+        assert_eq!(
+            (&huge.positions, &huge.normals, &huge.triangles),
+            (&small.positions, &small.normals, &small.triangles)
+        );
+    }
+}
