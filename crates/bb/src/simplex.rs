@@ -87,17 +87,18 @@ impl<const N: usize> Simplex<N> {
                 what: "simplex vertex",
             });
         }
-        match Self::in_range(vertices) {
-            Some(simplex) => simplex,
-            None => Self::rescaled(vertices),
-        }
+        Self::closed_form(vertices, true)
     }
 
-    /// [`Simplex::new`] on finite vertices, or `None` when the longest edge `L` is outside
-    /// `[2^-240, 2^240]` ([`IN_RANGE_EDGES_SQUARED`]): there the closed forms below, products of up to four lengths
-    /// (`|e_0 × e_1|²` of a triangle), could overflow or underflow and must not be trusted.
-    #[inline]
-    fn in_range(vertices: [DVec3; N]) -> Option<Result<Self, BbError>> {
+    /// [`Simplex::new`] on finite vertices by the closed forms, which are trusted only when the
+    /// longest edge `L` is in `[2^-240, 2^240]` ([`IN_RANGE_EDGES_SQUARED`]): beyond, their
+    /// products of up to four lengths (`|e_0 × e_1|²` of a triangle) could overflow or
+    /// underflow, and with `rescale` the simplex goes to [`Simplex::rescaled`] instead (which
+    /// calls this without, on a simplex in range). One function returning the simplex, not an
+    /// option of it, because this runs for every tetrahedron of a hull: the option's extra
+    /// copies of the 200-byte result were 0.3 % of the bunny's instructions.
+    #[inline(always)]
+    fn closed_form(vertices: [DVec3; N], rescale: bool) -> Result<Self, BbError> {
         // The edge vectors from v_0 (N − 1 ≤ 3 of them; a fixed array, as this runs for every
         // tetrahedron of a hull and every sub-tetrahedron of a split face).
         let mut e = [DVec3::ZERO; 3];
@@ -113,8 +114,8 @@ impl<const N: usize> Simplex<N> {
                     max_not_nan(longest_squared, vertices[a].distance_squared(vertices[b]));
             }
         }
-        if !IN_RANGE_EDGES_SQUARED.contains(&longest_squared) {
-            return None;
+        if rescale && !IN_RANGE_EDGES_SQUARED.contains(&longest_squared) {
+            return Self::rescaled(vertices);
         }
         // One square root for the six edges: a correctly rounded square root is monotone, so
         // the root of the largest square is the largest of the roots, bit for bit.
@@ -151,17 +152,17 @@ impl<const N: usize> Simplex<N> {
             0.0
         };
         if relative_measure.is_nan() || relative_measure < DEGENERACY_TOLERANCE {
-            return Some(Err(BbError::DegenerateSimplex {
+            return Err(BbError::DegenerateSimplex {
                 relative_measure,
                 tolerance: DEGENERACY_TOLERANCE,
-            }));
+            });
         }
         duals[0] = -duals[1..].iter().copied().sum::<DVec3>();
-        Some(Ok(Simplex {
+        Ok(Simplex {
             vertices,
             duals,
             relative_measure,
-        }))
+        })
     }
 
     /// [`Simplex::new`] for a simplex whose longest edge is outside `[2^-240, 2^240]`: the
@@ -197,10 +198,8 @@ impl<const N: usize> Simplex<N> {
             )));
         }
         let scale = power_of_two(-k);
-        let Some(scaled) = Self::in_range(edges.map(|e| e * scale)) else {
-            unreachable!("a simplex with edges in [1, 4√3) is in range");
-        };
-        let scaled = scaled?;
+        // Its edges are in [1, 4√3), in range: no second rescaling.
+        let scaled = Self::closed_form(edges.map(|e| e * scale), false)?;
         Ok(Simplex {
             vertices,
             duals: scaled.duals.map(|d| d * scale),
