@@ -39,6 +39,9 @@ pub enum ApatchError {
         /// Its end `u = y u_k + (1 − y) u_l` on the apex segment.
         y: f64,
     },
+    /// An option of [`crate::SurfaceOptions`] is out of its range (named, with its value).
+    #[error("invalid option: {0}")]
+    InvalidOption(String),
     /// Two tetrahedra that must share a face do not.
     #[error("inconsistent hull: {0}")]
     Inconsistent(String),

@@ -77,6 +77,34 @@ pub enum GradientMagnitudes {
     AsGiven,
 }
 
+impl SurfaceOptions {
+    /// Checks the ranges: `sheet_margin` finite and `> 0` (Lemma 2.3 needs the apex values
+    /// strictly beyond their bounds: at 0 the smallest root can be the double root of
+    /// `b = b_min`, and a negative or NaN margin would let values below the bounds through),
+    /// and the hull's ([`HullOptions::validate`]). [`ApatchSurface::new`] calls it first.
+    ///
+    /// ```
+    /// use algesurf_apatch::SurfaceOptions;
+    /// assert!(SurfaceOptions::default().validate().is_ok());
+    /// let bad = SurfaceOptions { sheet_margin: -0.01, ..SurfaceOptions::default() };
+    /// assert!(bad.validate().unwrap_err().to_string().contains("sheet_margin"));
+    /// ```
+    ///
+    /// # Errors
+    /// [`ApatchError::InvalidOption`] naming the option; [`ApatchError::Hull`] with
+    /// [`algesurf_hull::HullError::InvalidOption`] for the hull's.
+    pub fn validate(&self) -> Result<(), ApatchError> {
+        let m = self.sheet_margin;
+        if !(m > 0.0 && m.is_finite()) {
+            return Err(ApatchError::InvalidOption(format!(
+                "sheet_margin = {m} must be finite and > 0"
+            )));
+        }
+        self.hull.validate()?;
+        Ok(())
+    }
+}
+
 impl Default for SurfaceOptions {
     fn default() -> Self {
         SurfaceOptions {
@@ -237,6 +265,8 @@ impl ApatchSurface {
     /// beyond `2^±64`.
     ///
     /// # Errors
+    /// [`ApatchError::InvalidOption`] (or the hull's, in [`ApatchError::Hull`]) for an option
+    /// out of range ([`SurfaceOptions::validate`]);
     /// [`ApatchError::Hull`] when the hull cannot be built; [`ApatchError::UnliftableEdgeRay`]
     /// when an edge A-patch is still unliftable after the refinements; the other variants of
     /// [`ApatchError`] for degenerate configurations, each naming the face or edge.
@@ -281,6 +311,7 @@ impl ApatchSurface {
         options: &SurfaceOptions,
         progress: &dyn Progress,
     ) -> Result<Self, ApatchError> {
+        options.validate()?;
         let (normals, adjusted_normals) = if options.condition_normals {
             algesurf_mesh::condition_normals(
                 mesh,

@@ -500,3 +500,42 @@ fn a_resolution_too_large_to_number_is_an_error_before_anything_is_allocated() {
         );
     }
 }
+
+#[test]
+fn a_sheet_margin_out_of_range_is_refused_naming_it() {
+    // A NaN, negative or zero margin would let apex values onto or below their single-sheet
+    // bounds (Lemma 2.3 needs them strictly above); an infinite one has no admissible value
+    // and sent the build into refinement until it gave up on an edge. Each is refused by
+    // name before any work, as the hull's options are.
+    let mesh = icosphere(1);
+    let normals: Vec<DVec3> = mesh.positions().iter().map(|p| p.normalize()).collect();
+    for m in [f64::NAN, -0.01, 0.0, -0.0, f64::INFINITY] {
+        let options = SurfaceOptions {
+            sheet_margin: m,
+            ..SurfaceOptions::default()
+        };
+        let err = ApatchSurface::new(&mesh, &normals, &options).unwrap_err();
+        assert!(
+            matches!(&err, algesurf_apatch::ApatchError::InvalidOption(msg) if msg.contains("sheet_margin")),
+            "{m}: {err}"
+        );
+    }
+    // The hull's options are checked as part of the surface's.
+    let mut options = SurfaceOptions::default();
+    options.hull.epsilon = f64::NAN;
+    let err = options.validate().unwrap_err().to_string();
+    assert!(err.contains("epsilon"), "{err}");
+    // Tiny and large margins are admissible, and the sphere is still single-sheeted.
+    for m in [1e-300, 10.0] {
+        let options = SurfaceOptions {
+            sheet_margin: m,
+            ..SurfaceOptions::default()
+        };
+        let s = ApatchSurface::new(&mesh, &normals, &options).unwrap();
+        let t = s.tessellate(3, 2).unwrap();
+        assert!(
+            t.missed_rays.is_empty() && t.multiple_roots.is_empty(),
+            "{m}"
+        );
+    }
+}
