@@ -80,6 +80,9 @@ pub enum MeshError {
         /// Actual length.
         found: usize,
     },
+    /// An option is out of its range (named, with its value).
+    #[error("invalid option: {0}")]
+    InvalidOption(String),
     /// The mesh has more elements than 32-bit indices can address.
     #[error("too many elements for 32-bit indices: {0}")]
     TooLarge(usize),

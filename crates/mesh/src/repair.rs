@@ -71,6 +71,36 @@ pub struct RepairOptions {
     pub unfold_vertices: bool,
 }
 
+impl RepairOptions {
+    /// Checks the ranges: `weld_tolerance` (when welding) and `degenerate_area` finite and
+    /// `≥ 0`. A NaN or negative value would silently switch its step off, and an infinite
+    /// weld tolerance would merge every vertex into one. [`repair`] calls it first.
+    ///
+    /// ```
+    /// use algesurf_mesh::RepairOptions;
+    /// assert!(RepairOptions::default().validate().is_ok());
+    /// let bad = RepairOptions { weld_tolerance: Some(f64::NAN), ..RepairOptions::default() };
+    /// assert!(bad.validate().unwrap_err().to_string().contains("weld_tolerance"));
+    /// ```
+    ///
+    /// # Errors
+    /// [`MeshError::InvalidOption`] naming the option.
+    pub fn validate(&self) -> Result<(), MeshError> {
+        let weld = self.weld_tolerance.unwrap_or(0.0);
+        for (name, x) in [
+            ("weld_tolerance", weld),
+            ("degenerate_area", self.degenerate_area),
+        ] {
+            if !(x >= 0.0 && x.is_finite()) {
+                return Err(MeshError::InvalidOption(format!(
+                    "{name} = {x} must be finite and ≥ 0"
+                )));
+            }
+        }
+        Ok(())
+    }
+}
+
 impl Default for RepairOptions {
     fn default() -> Self {
         RepairOptions {
@@ -387,8 +417,10 @@ fn map_property(p: &Property, map: &[u32]) -> Property {
 /// to "degenerate".
 ///
 /// # Errors
-/// [`MeshError::TooLarge`] when the mesh exceeds 32-bit indices.
+/// [`MeshError::TooLarge`] when the mesh exceeds 32-bit indices;
+/// [`MeshError::InvalidOption`] when [`RepairOptions::validate`] refuses the options.
 pub fn repair(mesh: &PolygonMesh, options: &RepairOptions) -> Result<Repaired, MeshError> {
+    options.validate()?;
     let e = exact_scale_exponent(&mesh.positions);
     if e == 0 {
         return repair_at_scale(mesh, options);

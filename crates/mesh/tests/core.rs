@@ -351,6 +351,63 @@ fn vertex_normals_do_not_depend_on_the_scale() {
 /// face order, and the rest kept in face order: on 300 copies of a block of seven faces, so
 /// that the per-face work is split among threads.
 #[test]
+fn repair_refuses_tolerances_out_of_range_naming_them() {
+    // A NaN or negative tolerance used to switch its step off without a word (every
+    // comparison with NaN is false), and an infinite weld tolerance merged every vertex.
+    let m = icosphere(1).to_polygon_mesh();
+    for (options, name) in [
+        (
+            RepairOptions {
+                weld_tolerance: Some(f64::NAN),
+                ..RepairOptions::default()
+            },
+            "weld_tolerance",
+        ),
+        (
+            RepairOptions {
+                weld_tolerance: Some(f64::INFINITY),
+                ..RepairOptions::default()
+            },
+            "weld_tolerance",
+        ),
+        (
+            RepairOptions {
+                degenerate_area: -1e-12,
+                ..RepairOptions::default()
+            },
+            "degenerate_area",
+        ),
+        (
+            RepairOptions {
+                degenerate_area: f64::NAN,
+                ..RepairOptions::default()
+            },
+            "degenerate_area",
+        ),
+    ] {
+        let err = repair(&m, &options).unwrap_err();
+        assert!(
+            matches!(&err, algesurf_mesh::MeshError::InvalidOption(msg) if msg.contains(name)),
+            "{options:?}: {err}"
+        );
+    }
+    // No welding, and zero tolerances, are in range.
+    for options in [
+        RepairOptions {
+            weld_tolerance: None,
+            degenerate_area: 0.0,
+            ..RepairOptions::default()
+        },
+        RepairOptions {
+            weld_tolerance: Some(0.0),
+            ..RepairOptions::default()
+        },
+    ] {
+        assert_eq!(repair(&m, &options).unwrap().mesh.face_count(), 80);
+    }
+}
+
+#[test]
 fn repair_reports_dropped_faces_in_face_order() {
     let block = [
         vec![0, 1, 2],    // kept
