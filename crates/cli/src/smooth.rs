@@ -56,7 +56,7 @@ pub enum SmoothNormals {
     Area,
     /// Angle-weighted face normals.
     Angle,
-    /// The normals stored in the input file (OBJ `vn`, PLY nx/ny/nz, glTF NORMAL).
+    /// The normals stored in the input file (OBJ `vn`, PLY nx/ny/nz, glTF NORMAL; an OBJ vertex whose corners name different normals takes their mean direction).
     File,
 }
 

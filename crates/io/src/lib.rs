@@ -26,6 +26,10 @@
 //!   stages can be found in the user's file. (STL has no shared vertices: bit-identical corner
 //!   positions are merged, in order of first appearance; glTF primitives are concatenated in
 //!   scene order with their node transforms applied.)
+//! * Normals are per vertex. OBJ names them per corner: a vertex takes the normal its corners
+//!   name, and where they name different values (a hard edge, where exporters write one
+//!   normal per side) the mean of those directions, each value counted once, whatever the
+//!   order of the faces.
 //! * Readers never panic, on any input; errors ([`IoError`]) name the file, the line, byte or
 //!   element, and what was expected.
 //! * OBJ, OFF and PLY writers keep full `f64` precision unless [`WriteOptions::f32`] is set; STL

@@ -27,12 +27,35 @@ fn resolve(tok: &str, count: usize) -> Option<usize> {
     (idx < count).then_some(idx)
 }
 
+/// A vector's bits, for comparing and ordering normals exactly.
+fn bits(n: DVec3) -> [u64; 3] {
+    n.to_array().map(f64::to_bits)
+}
+
+/// The per-vertex normal of a vertex whose corners name normals of different values (a hard
+/// edge or a corner of the exporter's smoothing groups): the mean of their directions, with
+/// the mean of their lengths (file normals are unit as a rule; the lengths matter only to
+/// gradients read from the file). Each value counts once, however many corners name it, and
+/// they are summed in the order of their bits, so the result does not depend on the order of
+/// the faces. Opposite normals cancel to zero, which later stages treat as a missing normal.
+fn corner_mean(mut values: Vec<DVec3>) -> DVec3 {
+    values.sort_unstable_by_key(|&n| bits(n));
+    values.dedup_by_key(|n| bits(*n));
+    let directions: DVec3 = values.iter().map(|n| n.normalize_or_zero()).sum();
+    let length = values.iter().map(|n| n.length()).sum::<f64>() / values.len() as f64;
+    directions.normalize_or_zero() * length
+}
+
 pub(crate) fn read(bytes: &[u8], ctx: Ctx<'_>) -> Result<PolygonMesh, IoError> {
     let text = String::from_utf8_lossy(bytes);
     let mut mesh = PolygonMesh::new();
     let mut normals: Vec<DVec3> = Vec::new();
     // For each vertex: the file normal index of the first corner that referenced one.
     let mut vertex_normal: Vec<Option<u32>> = Vec::new();
+    // Corners naming a normal of another value than their vertex's first one: `(vertex,
+    // normal index)` (exporters write one normal per vertex and smoothing group, so a vertex
+    // on a hard edge has one per side).
+    let mut other_corner_normals: Vec<(u32, u32)> = Vec::new();
     let mut any_corner_normal = false;
     let mut groups: Vec<u32> = Vec::new();
     // Group ids are given in order of the groups' first face, so that ids written back as
@@ -119,8 +142,12 @@ pub(crate) fn read(bytes: &[u8], ctx: Ctx<'_>) -> Result<PolygonMesh, IoError> {
                             )
                         })?;
                         any_corner_normal = true;
-                        if vertex_normal[v].is_none() {
-                            vertex_normal[v] = Some(n as u32);
+                        match vertex_normal[v] {
+                            None => vertex_normal[v] = Some(n as u32),
+                            Some(first) if bits(normals[first as usize]) != bits(normals[n]) => {
+                                other_corner_normals.push((v as u32, n as u32));
+                            }
+                            Some(_) => {}
                         }
                     }
                     corners.push(v as u32);
@@ -146,9 +173,10 @@ pub(crate) fn read(bytes: &[u8], ctx: Ctx<'_>) -> Result<PolygonMesh, IoError> {
     }
     if any_corner_normal {
         let by_order = normals.len() == mesh.positions.len();
-        // A vertex keeps the normal of the first corner that names one; vertices no corner gives
-        // a normal take the file's normal of the same index when the counts match, else zero.
-        let per_vertex: Vec<DVec3> = vertex_normal
+        // A vertex takes the normal its corners name (the mean direction of their different
+        // values, see [`corner_mean`]); vertices no corner gives a normal take the file's
+        // normal of the same index when the counts match, else zero.
+        let mut per_vertex: Vec<DVec3> = vertex_normal
             .iter()
             .enumerate()
             .map(|(v, n)| match n {
@@ -157,6 +185,14 @@ pub(crate) fn read(bytes: &[u8], ctx: Ctx<'_>) -> Result<PolygonMesh, IoError> {
                 None => DVec3::ZERO,
             })
             .collect();
+        other_corner_normals.sort_unstable();
+        for run in other_corner_normals.chunk_by(|a, b| a.0 == b.0) {
+            let v = run[0].0 as usize;
+            let values: Vec<DVec3> = std::iter::once(per_vertex[v])
+                .chain(run.iter().map(|&(_, n)| normals[n as usize]))
+                .collect();
+            per_vertex[v] = corner_mean(values);
+        }
         mesh.normals = Some(per_vertex);
     } else if !normals.is_empty() && normals.len() == mesh.positions.len() {
         mesh.normals = Some(normals);

@@ -102,6 +102,73 @@ fn obj_negative_indices_groups_polygons_normals_and_order() {
     assert_eq!(g.values, PropertyValues::Int(vec![0, 1, 0]));
 }
 
+/// The cube as exporters write it with hard edges: eight vertices, one normal per face, so
+/// every vertex's three corners name three different normals.
+fn hard_edged_cube(face_order: &[usize], normal_order: &[usize]) -> String {
+    let mut text = String::new();
+    for k in 0..8 {
+        let c = |bit: usize| if k & bit != 0 { 1 } else { -1 };
+        text += &format!("v {} {} {}\n", c(1), c(2), c(4));
+    }
+    let normals = ["1 0 0", "-1 0 0", "0 1 0", "0 -1 0", "0 0 1", "0 0 -1"];
+    for &n in normal_order {
+        text += &format!("vn {}\n", normals[n]);
+    }
+    // Faces (outward, counter-clockwise) with the index of their normal in `normals`.
+    let quads = [
+        ([2, 4, 8, 6], 0),
+        ([1, 5, 7, 3], 1),
+        ([3, 7, 8, 4], 2),
+        ([1, 2, 6, 5], 3),
+        ([5, 6, 8, 7], 4),
+        ([1, 3, 4, 2], 5),
+    ];
+    for &f in face_order {
+        let (q, n) = quads[f];
+        let vn = normal_order.iter().position(|&m| m == n).unwrap() + 1;
+        let corners: Vec<String> = q.iter().map(|v| format!("{v}//{vn}")).collect();
+        text += &format!("f {}\n", corners.join(" "));
+    }
+    text
+}
+
+#[test]
+fn obj_hard_edge_normals_are_averaged_whatever_the_face_order() {
+    // Each cube corner's three face normals average to its diagonal, the direction of its
+    // position; before, a vertex kept the normal of the first face that named it, one of the
+    // three axes, depending on the order of the faces.
+    let read_cube = |faces: &[usize], normals: &[usize]| {
+        read_bytes(hard_edged_cube(faces, normals).as_bytes(), Format::Obj).unwrap()
+    };
+    let m = read_cube(&[0, 1, 2, 3, 4, 5], &[0, 1, 2, 3, 4, 5]);
+    let normals = m.normals.clone().unwrap();
+    for (p, n) in m.positions.iter().zip(&normals) {
+        assert_eq!(*n, p.normalize(), "vertex at {p}");
+    }
+    // The same bits in other orders of the faces and of the normals.
+    for (faces, ns) in [
+        ([5, 4, 3, 2, 1, 0], [0, 1, 2, 3, 4, 5]),
+        ([2, 0, 5, 1, 3, 4], [4, 2, 0, 5, 3, 1]),
+    ] {
+        assert_eq!(read_cube(&faces, &ns).normals.unwrap(), normals);
+    }
+    // A value named by several corners (or several `vn` lines) counts once, and a vertex
+    // whose corners agree keeps the file's value exactly.
+    let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvn 0 0 1\nvn 0 0 1\nvn 0.6 0 0.8\n\
+        f 1//1 2//3 3//1\nf 3//2 2//3 4//2\n";
+    let m = read_bytes(text.as_bytes(), Format::Obj).unwrap();
+    let n = m.normals.unwrap();
+    assert_eq!(n[0], DVec3::Z);
+    assert_eq!(n[1], DVec3::new(0.6, 0.0, 0.8));
+    assert_eq!(n[2], DVec3::Z);
+    assert_eq!(n[3], DVec3::Z);
+    // Opposite normals cancel: no usable normal (zero), which the commands replace.
+    let text =
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nvn 0 0 -1\nf 1//1 2//1 3//1\nf 1//2 3//2 2//2\n";
+    let m = read_bytes(text.as_bytes(), Format::Obj).unwrap();
+    assert_eq!(m.normals.unwrap(), vec![DVec3::ZERO; 3]);
+}
+
 #[test]
 fn obj_errors_carry_line_numbers() {
     let e = read_bytes(b"v 0 0 0\nv 1 0 0\nv 0 1 0\n\nf 1 2 4\n", Format::Obj).unwrap_err();
