@@ -279,8 +279,9 @@ fn zero_resolution_is_an_invalid_option() {
     ));
 }
 
-/// Coincident input vertices (kept apart by repair) are not a crack; a tessellation vertex
-/// repeating any position is, and so is an edge used by one triangle of a closed input.
+/// Coincident input vertices (kept apart by repair) are not a crack, nor are coincident
+/// vertices of different components; a tessellation vertex repeating a position in its own
+/// component is, and so is an edge used by one triangle of a closed input.
 #[test]
 fn duplicates_and_open_edges_of_the_tessellation_are_counted() {
     use algesurf_inspect::check::topology;
@@ -304,6 +305,19 @@ fn duplicates_and_open_edges_of_the_tessellation_are_counted() {
     t.interpolated_vertices = 4;
     let m = topology(&t, closed);
     assert_eq!((m.duplicate_positions, m.first_duplicate), (1, Some(4)));
+    // A tessellation vertex on a second sheet at the same place, another component (the
+    // input's detached non-manifold edge with flat patches on both sheets), is no crack; the
+    // same vertex joined to the first sheet is.
+    let mut sheets = t.clone();
+    sheets.positions.extend([p[1], p[2], p[0] + p[1] + p[2]]);
+    sheets.triangles.push([5, 6, 7]);
+    sheets.triangle_patch.push(1);
+    let m = topology(&sheets, closed);
+    assert_eq!((m.duplicate_positions, m.first_duplicate), (1, Some(4)));
+    sheets.triangles.push([5, 7, 3]);
+    sheets.triangle_patch.push(1);
+    let m = topology(&sheets, closed);
+    assert_eq!((m.duplicate_positions, m.first_duplicate), (3, Some(4)));
     // One triangle fewer: three open edges on a closed input.
     t.triangles.pop();
     let m = topology(&t, closed);

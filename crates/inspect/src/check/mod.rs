@@ -36,7 +36,7 @@
 //! | missed rays / multiple roots | rays whose shooting polynomial has no root in `[0, 1)` / whose root is not simple | 0 |
 //! | watertight | tessellation edges not shared by exactly two oppositely oriented triangles (closed input), or by more than two (open input) | 0 |
 //! | finite positions | tessellation vertices with a NaN or infinite coordinate | 0 |
-//! | duplicate positions | tessellation vertices at the position of an earlier one (coincident input vertices excepted) | 0 |
+//! | duplicate positions | tessellation vertices at the position of an earlier one of their connected component (coincident input vertices excepted) | 0 |
 //! | Euler characteristic | `\|χ(output) − χ(input after repair)\|` | 0 |
 //! | parameter margin | least `(value − bound) / scale` of the free parameters beyond their single-sheet bound (Lemma 2.3, Step 6) | > 0 |
 //!

@@ -12,8 +12,12 @@ pub struct TopologyMeasure {
     pub bad_edges: usize,
     /// The first such edge.
     pub first_bad_edge: Option<(u32, u32)>,
-    /// Vertices at exactly the position of an earlier vertex (pairs of two interpolated input
-    /// vertices excepted: those are coincident in the input).
+    /// Vertices at exactly the position of an earlier vertex of the same connected component
+    /// of the tessellation (pairs of two interpolated input vertices excepted: those are
+    /// coincident in the input). A crack between patches leaves its two copies of a point in
+    /// one component, joined through the interpolated vertices at the ends of the mesh edge;
+    /// points of different components coincide only where the input's own sheets do (a
+    /// non-manifold edge that repair detached, with flat patches on both sheets).
     pub duplicate_positions: usize,
     /// The first such vertex.
     pub first_duplicate: Option<usize>,
@@ -74,15 +78,38 @@ pub fn topology(t: &Tessellated, input: InputTopology) -> TopologyMeasure {
         .map(|(i, p)| (p.to_array().map(f64::to_bits), i as u32))
         .collect();
     order.par_sort_unstable();
-    let duplicates: Vec<usize> = order
+    // Two interpolated vertices at one position are the input's own coincident vertices
+    // (kept apart by repair), not a crack the tessellation opened.
+    let from_input =
+        |i: usize, j: usize| i < t.interpolated_vertices && j < t.interpolated_vertices;
+    let runs: Vec<&[([u64; 3], u32)]> = order
         .chunk_by(|a, b| a.0 == b.0)
-        .flat_map(|run| run.windows(2))
-        .filter_map(|w| {
-            let (j, i) = (w[0].1 as usize, w[1].1 as usize);
-            // Two interpolated vertices at one position are the input's own coincident
-            // vertices (kept apart by repair), not a crack the tessellation opened.
-            let from_input = i < t.interpolated_vertices && j < t.interpolated_vertices;
-            (!from_input).then_some(i)
+        .filter(|run| {
+            run.windows(2)
+                .any(|w| !from_input(w[0].1 as usize, w[1].1 as usize))
+        })
+        .collect();
+    // The components are needed only where some position repeats (almost never, on a
+    // watertight tessellation).
+    let component = if runs.is_empty() {
+        Vec::new()
+    } else {
+        vertex_components(t)
+    };
+    let duplicates: Vec<usize> = runs
+        .iter()
+        .flat_map(|run| {
+            let component = &component;
+            (1..run.len()).filter_map(move |k| {
+                let i = run[k].1 as usize;
+                run[..k]
+                    .iter()
+                    .any(|&(_, j)| {
+                        let j = j as usize;
+                        may_be_crack(component[j], component[i]) && !from_input(i, j)
+                    })
+                    .then_some(i)
+            })
         })
         .collect();
     let non_finite: Vec<usize> = (0..t.positions.len())
@@ -111,6 +138,60 @@ pub fn topology(t: &Tessellated, input: InputTopology) -> TopologyMeasure {
         input,
         euler_characteristic: used as i64 - edges.len() as i64 + t.triangles.len() as i64,
     }
+}
+
+/// Whether vertices in components `a` and `b` (of [`vertex_components`]) may be a crack's two
+/// copies of a point: in the same component, or either used by no triangle (which the
+/// measure cannot place, so it counts it).
+fn may_be_crack(a: u32, b: u32) -> bool {
+    a == b || a == UNUSED || b == UNUSED
+}
+
+/// The component of a vertex no triangle uses.
+const UNUSED: u32 = u32::MAX;
+
+/// The connected component of every vertex of `t` (a representative vertex id), through its
+/// triangles; [`UNUSED`] for a vertex no triangle uses. Sized by the positions and the largest
+/// id a triangle names, so that a triangle naming a vertex that does not exist is no panic.
+fn vertex_components(t: &Tessellated) -> Vec<u32> {
+    let ids = t
+        .triangles
+        .iter()
+        .flatten()
+        .map(|&v| v as usize + 1)
+        .max()
+        .unwrap_or(0)
+        .max(t.positions.len());
+    let mut parent: Vec<u32> = (0..ids as u32).collect();
+    fn root(parent: &mut [u32], mut v: u32) -> u32 {
+        while parent[v as usize] != v {
+            // Path halving.
+            parent[v as usize] = parent[parent[v as usize] as usize];
+            v = parent[v as usize];
+        }
+        v
+    }
+    for tri in &t.triangles {
+        for k in 1..3 {
+            let (a, b) = (root(&mut parent, tri[0]), root(&mut parent, tri[k]));
+            if a != b {
+                parent[a.max(b) as usize] = a.min(b);
+            }
+        }
+    }
+    let mut used = vec![false; ids];
+    for &v in t.triangles.iter().flatten() {
+        used[v as usize] = true;
+    }
+    (0..ids as u32)
+        .map(|v| {
+            if used[v as usize] {
+                root(&mut parent, v)
+            } else {
+                UNUSED
+            }
+        })
+        .collect()
 }
 
 impl TopologyMeasure {
@@ -149,12 +230,49 @@ mod tests {
         }
         bad.sort_unstable();
         bad.dedup();
-        let mut seen: HashMap<[u64; 3], usize> = HashMap::new();
+        // Components by a flood fill over the triangles' vertex adjacency.
+        let n = t.positions.len().max(
+            t.triangles
+                .iter()
+                .flatten()
+                .map(|&v| v as usize + 1)
+                .max()
+                .unwrap_or(0),
+        );
+        let mut neighbours: HashMap<u32, Vec<u32>> = HashMap::new();
+        for tri in &t.triangles {
+            for a in tri {
+                for b in tri {
+                    neighbours.entry(*a).or_default().push(*b);
+                }
+            }
+        }
+        // usize::MAX: used by no triangle.
+        let mut component = vec![usize::MAX; n];
+        for start in 0..n {
+            if component[start] == usize::MAX && neighbours.contains_key(&(start as u32)) {
+                let mut stack = vec![start as u32];
+                component[start] = start;
+                while let Some(v) = stack.pop() {
+                    for &w in neighbours.get(&v).map_or(&[][..], Vec::as_slice) {
+                        if component[w as usize] == usize::MAX {
+                            component[w as usize] = start;
+                            stack.push(w);
+                        }
+                    }
+                }
+            }
+        }
         let mut duplicates = Vec::new();
         for (i, p) in t.positions.iter().enumerate() {
-            if let Some(j) = seen.insert(p.to_array().map(f64::to_bits), i)
-                && !(i < t.interpolated_vertices && j < t.interpolated_vertices)
-            {
+            let earlier = (0..i).any(|j| {
+                t.positions[j].to_array().map(f64::to_bits) == p.to_array().map(f64::to_bits)
+                    && (component[j] == component[i]
+                        || component[i] == usize::MAX
+                        || component[j] == usize::MAX)
+                    && !(i < t.interpolated_vertices && j < t.interpolated_vertices)
+            });
+            if earlier {
                 duplicates.push(i);
             }
         }
