@@ -236,6 +236,34 @@ pub(crate) fn folder_exists(path: &Path, what: &str) -> Result<(), BoxError> {
     }
 }
 
+/// The error for a mesh with a non-orientable component (a Möbius strip, a Klein bottle),
+/// naming an edge whose two faces meet in the same direction after repair's orientation.
+fn non_orientable(source: &str, components: usize, mesh: &PolygonMesh) -> String {
+    let edge = algesurf_mesh::validate(mesh)
+        .findings
+        .into_iter()
+        .find_map(|f| match f {
+            algesurf_mesh::Finding::InconsistentOrientation { vertices, faces } => Some(format!(
+                ": faces {} and {} traverse edge ({}, {}) in the same direction however they are \
+                 turned",
+                faces[0], faces[1], vertices[0], vertices[1]
+            )),
+            _ => None,
+        })
+        .unwrap_or_default();
+    let (count, them) = if components == 1 {
+        ("a component", "it")
+    } else {
+        ("components", "them")
+    };
+    format!(
+        "{source}: {count} of the mesh cannot be oriented ({components} non-orientable, a \
+         Möbius strip or a Klein bottle){edge} (ids after repair). An A-patch surface is the \
+         zero set of a function, which has two sides, so it needs an orientable mesh: cut \
+         {them} open or remove {them}"
+    )
+}
+
 /// One line naming what repair changed ("welded 403 vertices, flipped 2 faces").
 fn repair_summary(r: &RepairReport) -> String {
     if !r.changed() {
@@ -477,6 +505,11 @@ pub(crate) fn build(
                     String::new()
                 };
                 return Err(format!("{source}: the mesh has no faces{after}").into());
+            }
+            if r.non_orientable_components > 0 {
+                return Err(
+                    non_orientable(&source, r.non_orientable_components, &repaired.mesh).into(),
+                );
             }
             (tri, text, rj)
         }

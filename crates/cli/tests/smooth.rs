@@ -917,3 +917,57 @@ fn normals_adjusted_into_their_faces_cone_are_reported() {
     );
     assert_eq!(report["file_normals"]["replaced"], serde_json::json!([]));
 }
+
+/// A Möbius strip has no two sides, so no function has it as its zero set: the commands that
+/// build a surface say so and name an edge where the orientation cannot agree, instead of
+/// the hull's bare "traverse their common edge in the same direction".
+#[test]
+fn a_non_orientable_mesh_is_refused_as_such() {
+    let dir = TempDir::new("smooth", "mobius");
+    let n = 24;
+    let mut positions = Vec::new();
+    for i in 0..n {
+        let t = std::f64::consts::TAU * i as f64 / n as f64;
+        for s in [-0.3, 0.3] {
+            let r = 1.0 + s * (t / 2.0).cos();
+            positions.push(glam::DVec3::new(
+                r * t.cos(),
+                r * t.sin(),
+                s * (t / 2.0).sin(),
+            ));
+        }
+    }
+    let mut mesh = PolygonMesh::new();
+    mesh.positions = positions;
+    for i in 0..n as u32 {
+        let (a, b) = (2 * i, 2 * i + 1);
+        // The last quad joins the strip with a half twist.
+        let (c, d) = if i + 1 < n as u32 {
+            (a + 2, b + 2)
+        } else {
+            (1, 0)
+        };
+        mesh.push_face(&[a, c, d, b]);
+    }
+    algesurf_io::write(
+        dir.path().join("mobius.obj"),
+        &mesh,
+        &algesurf_io::WriteOptions::default(),
+    )
+    .unwrap();
+    for args in [
+        &["smooth", "mobius.obj", "-o", "out.ply"][..],
+        &["check", "mobius.obj"],
+        &["render", "mobius.obj", "--smooth", "-o", "out.png"],
+    ] {
+        let out = algesurf(dir.path(), args);
+        assert_eq!(out.status.code(), Some(1), "{args:?}: {}", text(&out));
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains("cannot be oriented"), "{args:?}: {err}");
+        assert!(err.contains("traverse edge"), "{args:?}: {err}");
+    }
+    assert!(!dir.path().join("out.ply").exists() && !dir.path().join("out.png").exists());
+    // Drawing the mesh itself needs no orientation.
+    let out = algesurf(dir.path(), &["render", "mobius.obj", "-o", "mesh.png"]);
+    assert!(out.status.success(), "{}", text(&out));
+}
