@@ -360,3 +360,126 @@ fn a_view_of_some_owners_measures_the_facets_among_them() {
     assert!(!part.facets.is_empty() && part.facets.len() < whole.facets.len());
     assert!(part.value.value <= whole.value.value && part.gradient.value <= whole.gradient.value);
 }
+
+/// A hand-made surface of two pieces (the plane `F = z` on two tetrahedra over one triangle,
+/// one above and one below), whose interpolation targets and tessellation a test sets, with
+/// `patch_pieces` answering `stray` for patch 7.
+struct Handmade {
+    points: Vec<DVec3>,
+    normals: Vec<DVec3>,
+    t: Tessellated,
+    stray: usize,
+}
+
+impl Handmade {
+    fn new(t: Tessellated) -> Handmade {
+        Handmade {
+            points: vec![DVec3::ZERO, DVec3::X, DVec3::Y],
+            normals: vec![DVec3::Z; 3],
+            t,
+            stray: 0,
+        }
+    }
+}
+
+impl PatchSurface for Handmade {
+    fn piece_count(&self) -> usize {
+        2
+    }
+    fn piece_element(&self, piece: usize) -> Element {
+        Element::Face(0, Some([Side::Positive, Side::Negative][piece]))
+    }
+    fn piece_simplex(&self, piece: usize) -> [DVec3; 4] {
+        let apex = DVec3::new(0.3, 0.3, [1.0, -1.0][piece]);
+        [DVec3::ZERO, DVec3::X, DVec3::Y, apex]
+    }
+    fn value_gradient(&self, _: usize, x: DVec3) -> (f64, DVec3) {
+        (x.z, DVec3::Z)
+    }
+    fn interpolation_targets(&self) -> (&[DVec3], &[DVec3]) {
+        (&self.points, &self.normals)
+    }
+    fn tessellate(&self, _: usize) -> Result<Tessellated, InspectError> {
+        Ok(self.t.clone())
+    }
+    fn patch_element(&self, patch: u32) -> Element {
+        Element::Face(patch as usize, None)
+    }
+    fn patch_pieces(&self, patch: u32) -> Vec<usize> {
+        if patch == 7 {
+            vec![self.stray]
+        } else {
+            vec![patch as usize % 2]
+        }
+    }
+    fn parameter_margins(&self) -> Vec<(Element, f64)> {
+        Vec::new()
+    }
+    fn input_topology(&self) -> InputTopology {
+        InputTopology {
+            closed: false,
+            euler_characteristic: 1,
+        }
+    }
+}
+
+/// `PatchSurface` is implemented by users; where an implementation contradicts itself, the
+/// battery says what is wrong instead of panicking on an index (each case below panicked).
+#[test]
+fn a_surface_that_contradicts_itself_is_an_error_not_a_panic() {
+    let fan = Tessellated {
+        positions: vec![DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::new(0.2, 0.2, 0.0)],
+        triangles: vec![[0, 1, 3], [1, 2, 3], [2, 0, 3]],
+        triangle_patch: vec![0, 1, 7],
+        interpolated_vertices: 3,
+        ..Tessellated::default()
+    };
+    let measure = |s: &Handmade| match check(s, &CheckOptions::default()) {
+        Err(InspectError::Measurement(m)) => m,
+        other => panic!("expected a measurement error, got {other:?}"),
+    };
+    let mut s = Handmade::new(fan.clone());
+    assert!(check(&s, &CheckOptions::default()).is_ok());
+    s.normals.pop();
+    assert!(measure(&s).contains("3 points but 2 normals"));
+    let mut s = Handmade::new(fan.clone());
+    s.stray = 55;
+    assert!(measure(&s).contains("patch 7 lists piece 55"));
+    let mut t = fan;
+    t.triangles[1][2] = 9;
+    assert!(measure(&Handmade::new(t)).contains("triangle 1 names vertex 9"));
+}
+
+/// The battery on random tessellations of the hand-made surface: triangles naming any
+/// vertex, repeated corners, patch ids missing or unknown, NaN positions, any count of
+/// interpolated vertices. It may report anything, or refuse, but never panic.
+#[test]
+fn the_battery_never_panics_on_a_random_tessellation() {
+    let mut rng = algesurf_mesh::test_rng::Lcg(29);
+    let mut next = |n: usize| (rng.next() * n as f64) as usize;
+    let values = [0.0, 1.0, 0.2, 0.5, f64::NAN, -1.0];
+    for case in 0..1000 {
+        let nv = next(9);
+        let positions = (0..nv)
+            .map(|_| DVec3::new(values[next(6)], values[next(6)], values[next(3)]))
+            .collect();
+        let triangles: Vec<[u32; 3]> = (0..next(8))
+            .map(|_| [(); 3].map(|_| next(nv + 2) as u32))
+            .collect();
+        let t = Tessellated {
+            positions,
+            triangle_patch: (0..next(triangles.len() + 2))
+                .map(|_| next(9) as u32)
+                .collect(),
+            triangles,
+            interpolated_vertices: next(nv + 3),
+            missed_rays: vec![(next(4) as u32, DVec3::ZERO); next(2)],
+            ..Tessellated::default()
+        };
+        let s = Handmade::new(t);
+        let run = std::panic::catch_unwind(|| {
+            let _ = check(&s, &CheckOptions::default()).map(|r| r.to_string());
+        });
+        assert!(run.is_ok(), "case {case}: {:?}", s.t);
+    }
+}

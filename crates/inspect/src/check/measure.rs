@@ -61,9 +61,12 @@ pub struct InterpolationMeasure {
     pub samples: usize,
 }
 
-/// F and ∇F at every interpolated point from every piece having it as a vertex.
+/// F and ∇F at every interpolated point from every piece having it as a vertex. Only the
+/// points that have a normal are measured (the targets' two lists must have one length;
+/// [`crate::check::check`] refuses them otherwise).
 pub fn interpolation<S: PatchSurface + ?Sized>(surface: &S) -> InterpolationMeasure {
     let (points, normals) = surface.interpolation_targets();
+    let points = &points[..points.len().min(normals.len())];
     let (lo, hi) = points.iter().fold(
         (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
         |(lo, hi), p| (lo.min(*p), hi.max(*p)),
@@ -284,11 +287,22 @@ pub struct NormalAgreement {
 /// patch are compared too: on a split face they meet there as well).
 ///
 /// # Errors
-/// [`InspectError::Measurement`] when a piece's tetrahedron is degenerate.
+/// [`InspectError::Measurement`] when a piece's tetrahedron is degenerate, a triangle of `t`
+/// names a vertex it does not have, or a patch lists a piece that does not exist.
 pub fn normal_agreement<S: PatchSurface + ?Sized>(
     surface: &S,
     t: &Tessellated,
 ) -> Result<NormalAgreement, InspectError> {
+    if let Some((k, v)) = t.triangles.iter().enumerate().find_map(|(k, tri)| {
+        tri.iter()
+            .find(|&&v| v as usize >= t.positions.len())
+            .map(|&v| (k, v))
+    }) {
+        return Err(InspectError::Measurement(format!(
+            "tessellation triangle {k} names vertex {v}, but the tessellation has {} vertices",
+            t.positions.len()
+        )));
+    }
     // In parallel, then the first degenerate one in order (the same error as a loop).
     let tets: Vec<Result<Tetrahedron, _>> = (0..surface.piece_count())
         .into_par_iter()
@@ -347,6 +361,15 @@ pub fn normal_agreement<S: PatchSurface + ?Sized>(
         .par_iter()
         .map(|&p| surface.patch_pieces(p))
         .collect();
+    // The surface's own lists, checked before they index its pieces.
+    for (&patch, list) in wanted.iter().zip(&pieces) {
+        if let Some(&bad) = list.iter().find(|&&i| i >= tets.len()) {
+            return Err(InspectError::Measurement(format!(
+                "patch {patch} lists piece {bad}, but the surface has {} pieces",
+                tets.len()
+            )));
+        }
+    }
     let pieces_of = |patch: u32| -> &[usize] {
         let i = wanted
             .binary_search(&patch)

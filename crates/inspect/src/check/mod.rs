@@ -305,8 +305,10 @@ impl Default for CheckOptions {
 ///
 /// # Errors
 /// [`InspectError::InvalidOption`] for a zero resolution or facet level,
-/// [`InspectError::Measurement`] when the surface cannot be tessellated or a piece's
-/// tetrahedron is degenerate.
+/// [`InspectError::Measurement`] when the surface cannot be tessellated, a piece's
+/// tetrahedron is degenerate, or the surface contradicts itself (interpolation targets of
+/// two lengths, a tessellation triangle naming a missing vertex, a patch listing a piece
+/// that does not exist).
 pub fn check<S: PatchSurface + ?Sized>(
     surface: &S,
     options: &CheckOptions,
@@ -346,8 +348,8 @@ fn stage(progress: &dyn Progress, name: &str) -> Result<(), InspectError> {
 /// [`PatchSurface::tessellate`]); `facet_level` as in [`CheckOptions`].
 ///
 /// # Errors
-/// [`InspectError::InvalidOption`] for a zero facet level, [`InspectError::Measurement`] when
-/// a piece's tetrahedron is degenerate.
+/// [`InspectError::InvalidOption`] for a zero facet level, [`InspectError::Measurement`] as
+/// for [`check`].
 pub fn check_tessellation<S: PatchSurface + ?Sized>(
     surface: &S,
     tessellation: &Tessellated,
@@ -367,6 +369,14 @@ fn measure_all<S: PatchSurface + ?Sized>(
     facet_level: usize,
     progress: &dyn Progress,
 ) -> Result<CheckReport, InspectError> {
+    let (points, normals) = surface.interpolation_targets();
+    if points.len() != normals.len() {
+        return Err(InspectError::Measurement(format!(
+            "the surface's interpolation targets are {} points but {} normals",
+            points.len(),
+            normals.len()
+        )));
+    }
     stage(progress, "interpolation")?;
     let interp = interpolation(surface);
     stage(progress, "C1 across facets")?;
