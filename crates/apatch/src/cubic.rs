@@ -316,6 +316,12 @@ pub(crate) fn segment_masked<const MA: u8, const MB: u8>(
     ]
 }
 
+/// Value at `tau` by de Casteljau's algorithm on the fixed-size coefficients: the same bits as
+/// [`algesurf_bb::BbPoly::eval`] (tested), without its generic loops.
+pub(crate) fn value(c: &Coeffs, tau: [f64; 4]) -> f64 {
+    dot(step2(&step3(c, tau), tau), tau)
+}
+
 /// Value and formal partials `∂F/∂τ_i = 3 b[τ, τ, e_i]` at `tau`.
 pub(crate) fn value_partials(c: &Coeffs, tau: [f64; 4]) -> (f64, [f64; 4]) {
     let c1 = step2(&step3(c, tau), tau);
@@ -447,6 +453,31 @@ pub(crate) fn blossom_args(verts: &[[f64; 4]; 4], lambda: [usize; 4]) -> [[f64; 
 mod tests {
     use super::*;
     use algesurf_bb::{BbPoly, multi_index};
+
+    /// The value of [`value_partials`] is de Casteljau's ([`BbPoly::eval`]) bit for bit: the
+    /// same products summed in the same order (`FaceCubic::value` and the check battery rely
+    /// on it to give the generic evaluation's values without its generic loops).
+    #[test]
+    fn the_value_of_value_partials_is_de_casteljaus_bit_for_bit() {
+        let mut rng = algesurf_mesh::test_rng::Lcg(3);
+        for case in 0..20_000 {
+            let p = BbPoly::<f64, 4>::from_fn(3, |_| rng.next() * 2.0 - 1.0);
+            // Inside the tetrahedron and outside it (a negative coordinate).
+            let mut tau = [rng.next() * 1.4 - 0.2, rng.next(), rng.next(), 0.0];
+            tau[3] = 1.0 - tau[0] - tau[1] - tau[2];
+            let c = coeffs_of(&p);
+            assert_eq!(
+                value_partials(&c, tau).0.to_bits(),
+                p.eval(tau).to_bits(),
+                "case {case}"
+            );
+            assert_eq!(
+                value(&c, tau).to_bits(),
+                p.eval(tau).to_bits(),
+                "case {case}"
+            );
+        }
+    }
 
     /// Every row of a join pattern is the rank arithmetic spelled out: B's index `λ`, A's
     /// shared part `μ`, and `μ + e_k`, for every way two tetrahedra can share a face.

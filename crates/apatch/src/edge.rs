@@ -398,7 +398,7 @@ impl EdgeCubic {
 
     /// F at barycentric coordinates `tau`.
     pub fn value(&self, tau: [f64; 4]) -> f64 {
-        self.poly.eval(tau) + edge_term(tau, self.rational).0
+        cubic::value(&cubic::coeffs_of(&self.poly), tau) + edge_term(tau, self.rational).0
     }
 
     /// F and its Cartesian gradient at `x`.
@@ -416,9 +416,15 @@ impl EdgeCubic {
 
     /// Cartesian gradient of F at barycentric coordinates `tau`.
     pub(crate) fn gradient_at_tau(&self, tau: [f64; 4]) -> DVec3 {
-        let (_, dp) = cubic::value_partials(&cubic::coeffs_of(&self.poly), tau);
-        let (_, dr) = edge_term(tau, self.rational);
-        gradient_from_partials(&self.tet, dp, dr)
+        self.value_gradient_at_tau(tau).1
+    }
+
+    /// [`EdgeCubic::value`] and the Cartesian gradient at `tau`, from one pass of de
+    /// Casteljau's algorithm (the value's bits are [`EdgeCubic::value`]'s).
+    pub(crate) fn value_gradient_at_tau(&self, tau: [f64; 4]) -> (f64, DVec3) {
+        let (fp, dp) = cubic::value_partials(&cubic::coeffs_of(&self.poly), tau);
+        let (fr, dr) = edge_term(tau, self.rational);
+        (fp + fr, gradient_from_partials(&self.tet, dp, dr))
     }
 
     /// The shooting polynomials (4.9) of every ray of the patch at once: coefficient `k` of

@@ -274,7 +274,7 @@ impl FaceCubic {
 
     /// F at barycentric coordinates `tau`.
     pub fn value(&self, tau: [f64; 4]) -> f64 {
-        self.poly.eval(tau) + face_term(tau, self.rational).0
+        cubic::value(&cubic::coeffs_of(&self.poly), tau) + face_term(tau, self.rational).0
     }
 
     /// F and its Cartesian gradient at the point `x`.
@@ -304,8 +304,14 @@ impl FaceCubic {
     /// Cartesian gradient of F at barycentric coordinates `tau` (no Cartesian→barycentric
     /// solve: the rays of the tessellation know their point's coordinates).
     pub(crate) fn gradient_at_tau(&self, tau: [f64; 4]) -> DVec3 {
-        let (_, dp) = cubic::value_partials(&cubic::coeffs_of(&self.poly), tau);
-        let (_, dr) = face_term(tau, self.rational);
-        gradient_from_partials(&self.tet, dp, dr)
+        self.value_gradient_at_tau(tau).1
+    }
+
+    /// [`FaceCubic::value`] and the Cartesian gradient at `tau`, from one pass of de
+    /// Casteljau's algorithm (the value's bits are [`FaceCubic::value`]'s).
+    pub(crate) fn value_gradient_at_tau(&self, tau: [f64; 4]) -> (f64, DVec3) {
+        let (fp, dp) = cubic::value_partials(&cubic::coeffs_of(&self.poly), tau);
+        let (fr, dr) = face_term(tau, self.rational);
+        (fp + fr, gradient_from_partials(&self.tet, dp, dr))
     }
 }

@@ -75,12 +75,12 @@ impl Piece<'_> {
     /// turn that offset into a 1e-8 change of ∇F that is not a property of F on the facet.
     pub fn value_gradient_at_barycentric(&self, tau: [f64; 4]) -> (f64, DVec3) {
         match self.function {
-            PieceFunction::Face(c) => (c.value(tau), c.gradient_at_tau(tau)),
+            PieceFunction::Face(c) => c.value_gradient_at_tau(tau),
             PieceFunction::Split(s, a) => {
                 let (f, dp) = cubic::value_partials(&cubic::coeffs_of(&s.polys[a]), tau);
                 (f, gradient_from_partials(&s.tets[a], dp, [0.0; 4]))
             }
-            PieceFunction::Edge(c) => (c.value(tau), c.gradient_at_tau(tau)),
+            PieceFunction::Edge(c) => c.value_gradient_at_tau(tau),
         }
     }
 }
