@@ -81,6 +81,25 @@ pub enum HullError {
         /// `n_ijkᵀ n_l / |n_l|`.
         cosine: f64,
     },
+    /// The faces around a vertex fold over: their normals fit in no open hemisphere, so no
+    /// normal at the vertex is on the positive side of all of them, as §3 needs (the vertex
+    /// normal is not at fault, and no choice of it helps). Reported instead of
+    /// [`HullError::NormalNotOnPositiveSide`] where that is the cause.
+    #[error(
+        "vertex {vertex}: its faces fold over, their normals fit in no open hemisphere (the \
+         best direction's least cosine with them is {least_cosine:.3}), so no normal at the \
+         vertex is on the positive side of all of them as §3 needs (face {face} is one it \
+         fails); unfold the mesh there first (`algesurf_mesh::repair` moves such vertices, \
+         `RepairOptions::unfold_vertices`)"
+    )]
+    FoldedVertex {
+        /// The vertex.
+        vertex: u32,
+        /// The input face whose check failed.
+        face: u32,
+        /// `max_m min_f m·n_f` over the vertex's faces (≤ 0).
+        least_cosine: f64,
+    },
     /// A face or edge tetrahedron came out degenerate.
     #[error("the {what} tetrahedron of {element} is degenerate: {source}")]
     DegenerateTetrahedron {

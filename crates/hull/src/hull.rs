@@ -495,7 +495,8 @@ pub(crate) fn build(
         },
         filler_face,
         progress,
-    )?;
+    )
+    .map_err(|e| folded_vertex_or(e, mesh))?;
 
     // Edge tetrahedra (§3.2).
     let tally = UnitTally::start(progress, "hull: edge tetrahedra", edges.len());
@@ -514,4 +515,25 @@ pub(crate) fn build(
     tally.finish()?;
     done.into_iter().collect::<Result<(), _>>()?;
     Ok((faces, edges))
+}
+
+/// `e`, or [`HullError::FoldedVertex`] when `e` is a vertex normal on the wrong side of a face
+/// and the vertex's faces fit in no open hemisphere (then no normal would do). Only on the
+/// error path: it computes the mesh's face normals.
+fn folded_vertex_or(e: HullError, mesh: &TriMesh) -> HullError {
+    if let HullError::NormalNotOnPositiveSide { face, vertex, .. } = e
+        && (vertex as usize) < mesh.vertex_count()
+    {
+        let face_normals = algesurf_mesh::unit_face_normals(mesh);
+        if let Some((_, least)) = algesurf_mesh::face_cone_axis(mesh, &face_normals, vertex)
+            && least <= 0.0
+        {
+            return HullError::FoldedVertex {
+                vertex,
+                face,
+                least_cosine: least,
+            };
+        }
+    }
+    e
 }

@@ -222,6 +222,47 @@ fn open_mesh_boundary_edges_have_no_edge_tetrahedra() {
     assert!(hull.intersections().is_empty());
 }
 
+/// A vertex whose faces fold over (the one-ring of a vertex of a jittered torus, where a
+/// random search for panics found it): their normals fit in no open hemisphere, so no vertex
+/// normal is on the positive side of them all, and the error blames the fold, not the normal.
+#[test]
+fn a_folded_vertex_is_reported_as_a_fold() {
+    let p = vec![
+        DVec3::new(0.8944, 0.8066, 0.3304),
+        DVec3::new(0.4870, 0.6170, 0.3277),
+        DVec3::new(-0.1370, 1.2730, 0.3087),
+        DVec3::new(0.1180, 0.5912, 0.1070), // the folded vertex
+        DVec3::new(-0.0987, 0.7400, -0.2318),
+        DVec3::new(-0.4849, 0.5399, 0.2234),
+        DVec3::new(-0.3991, 0.4546, -0.1654),
+    ];
+    let f = vec![
+        [0, 2, 3],
+        [0, 3, 1],
+        [1, 3, 4],
+        [2, 5, 3],
+        [3, 5, 6],
+        [3, 6, 4],
+    ];
+    let mesh = algesurf_mesh::TriMesh::new(p.clone(), f.clone()).unwrap();
+    let normals = algesurf_mesh::unit_face_normals(&mesh);
+    let (_, least) = algesurf_mesh::face_cone_axis(&mesh, &normals, 3).unwrap();
+    assert!(least < 0.0, "the fan folds: {least}");
+    let n = algesurf_mesh::vertex_normals(&mesh, algesurf_mesh::NormalMethod::Area).unwrap();
+    let err = SimplicialHull::new(&p, &f, &n, &HullOptions::default()).unwrap_err();
+    match &err {
+        HullError::FoldedVertex {
+            vertex: 3,
+            least_cosine,
+            ..
+        } => assert_eq!(*least_cosine, least),
+        other => panic!("{other:?}"),
+    }
+    assert!(err.to_string().contains("fold over"), "{err}");
+    // A normal on the wrong side of faces that do fit a hemisphere is still the normal's
+    // fault (`bad_input_is_reported`).
+}
+
 #[test]
 fn bad_input_is_reported() {
     let (p, f) = icosphere(0);
