@@ -98,19 +98,7 @@ pub fn topology(t: &Tessellated, input: InputTopology) -> TopologyMeasure {
     };
     let duplicates: Vec<usize> = runs
         .iter()
-        .flat_map(|run| {
-            let component = &component;
-            (1..run.len()).filter_map(move |k| {
-                let i = run[k].1 as usize;
-                run[..k]
-                    .iter()
-                    .any(|&(_, j)| {
-                        let j = j as usize;
-                        may_be_crack(component[j], component[i]) && !from_input(i, j)
-                    })
-                    .then_some(i)
-            })
-        })
+        .flat_map(|run| run_duplicates(run, &component, t.interpolated_vertices))
         .collect();
     let non_finite: Vec<usize> = (0..t.positions.len())
         .filter(|&i| !t.positions[i].is_finite())
@@ -140,11 +128,49 @@ pub fn topology(t: &Tessellated, input: InputTopology) -> TopologyMeasure {
     }
 }
 
-/// Whether vertices in components `a` and `b` (of [`vertex_components`]) may be a crack's two
-/// copies of a point: in the same component, or either used by no triangle (which the
-/// measure cannot place, so it counts it).
-fn may_be_crack(a: u32, b: u32) -> bool {
-    a == b || a == UNUSED || b == UNUSED
+/// The vertices of `run` (vertices at one position, in index order) that repeat an earlier
+/// one of the run: one in the same component (of [`vertex_components`]), or either of them
+/// used by no triangle (which the measure cannot place, so it counts it), unless both are
+/// interpolated input vertices. In one pass with the components seen so far, so that a long
+/// run (a broken surface putting many points at one place, or at one NaN) costs linear time.
+fn run_duplicates(run: &[([u64; 3], u32)], component: &[u32], interpolated: usize) -> Vec<usize> {
+    /// The earlier vertices of the run: their components, and whether any was unused.
+    #[derive(Default)]
+    struct Seen {
+        any: bool,
+        unused: bool,
+        components: std::collections::HashSet<u32>,
+    }
+    impl Seen {
+        fn matches(&self, c: u32) -> bool {
+            self.any && (c == UNUSED || self.unused || self.components.contains(&c))
+        }
+        fn add(&mut self, c: u32) {
+            self.any = true;
+            if c == UNUSED {
+                self.unused = true;
+            } else {
+                self.components.insert(c);
+            }
+        }
+    }
+    // All earlier vertices, and the earlier ones that are not interpolated (the only ones an
+    // interpolated vertex can repeat).
+    let (mut all, mut tessellated) = (Seen::default(), Seen::default());
+    let mut out = Vec::new();
+    for &(_, i) in run {
+        let i = i as usize;
+        let c = component[i];
+        let earlier = if i < interpolated { &tessellated } else { &all };
+        if earlier.matches(c) {
+            out.push(i);
+        }
+        all.add(c);
+        if i >= interpolated {
+            tessellated.add(c);
+        }
+    }
+    out
 }
 
 /// The component of a vertex no triangle uses.
