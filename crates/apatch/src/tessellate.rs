@@ -254,12 +254,10 @@ impl ApatchSurface {
             .zip(inner.and_then(|i| i.checked_mul(ne)))
             .and_then(|(f, e)| f.checked_add(e))
             .and_then(|p| p.checked_add(mesh.vertex_count()));
-        let (Some(inner), Some(points)) = (inner, points) else {
+        let fits = points.is_some_and(|p| p < u32::MAX as usize);
+        let (Some(per_face), Some(inner), true) = (per_face, inner, fits) else {
             return Err(too_many_points(n, m));
         };
-        if points >= u32::MAX as usize {
-            return Err(too_many_points(n, m));
-        }
         if nf == 0 && (n, m) != (1, 1) {
             // Without faces (and so without edges) the resolution changes nothing but the
             // layout's record of it, and must not size a face grid that nothing reads (at
@@ -271,7 +269,7 @@ impl ApatchSurface {
             return Ok(t);
         }
         let grid = face_grid(n);
-        let per_face = grid.len();
+        debug_assert_eq!(grid.len(), per_face);
 
         // 1. Rays, in blocks of consecutive patches: each block's buffer is allocated and
         // written by the thread that evaluates it, and a patch's kernels are built once.
@@ -621,8 +619,6 @@ pub(crate) fn grid_point(g: &[usize; 3], n: usize) -> GridPoint {
     }
 }
 
-/// Face grids: all points (a, b, c), a + b + c = n, rows of decreasing a, within a row
-/// decreasing b.
 /// The error of a resolution whose tessellation has more points than `u32` vertex ids number.
 fn too_many_points(n: usize, m: usize) -> ApatchError {
     ApatchError::Degenerate(format!(
@@ -631,6 +627,8 @@ fn too_many_points(n: usize, m: usize) -> ApatchError {
     ))
 }
 
+/// Face grids: all points (a, b, c), a + b + c = n, rows of decreasing a, within a row
+/// decreasing b.
 pub(crate) fn face_grid(n: usize) -> Vec<[usize; 3]> {
     (0..=n)
         .rev()

@@ -89,12 +89,13 @@ pub fn topology(t: &Tessellated, input: InputTopology) -> TopologyMeasure {
                 .any(|w| !from_input(w[0].1 as usize, w[1].1 as usize))
         })
         .collect();
+    let used = used_vertices(t);
     // The components are needed only where some position repeats (almost never, on a
     // watertight tessellation).
     let component = if runs.is_empty() {
         Vec::new()
     } else {
-        vertex_components(t)
+        vertex_components(t, &used)
     };
     let duplicates: Vec<usize> = runs
         .iter()
@@ -103,18 +104,6 @@ pub fn topology(t: &Tessellated, input: InputTopology) -> TopologyMeasure {
     let non_finite: Vec<usize> = (0..t.positions.len())
         .filter(|&i| !t.positions[i].is_finite())
         .collect();
-    // Sized by the largest id used, not the positions: a triangle naming a vertex that does
-    // not exist still counts (and is no panic here).
-    let ids = t
-        .triangles
-        .iter()
-        .flatten()
-        .max()
-        .map_or(0, |&v| v as usize + 1);
-    let mut used = vec![false; ids];
-    for &v in t.triangles.iter().flatten() {
-        used[v as usize] = true;
-    }
     let used = used.iter().filter(|&&u| u).count();
     TopologyMeasure {
         bad_edges,
@@ -176,10 +165,10 @@ fn run_duplicates(run: &[([u64; 3], u32)], component: &[u32], interpolated: usiz
 /// The component of a vertex no triangle uses.
 const UNUSED: u32 = u32::MAX;
 
-/// The connected component of every vertex of `t` (a representative vertex id), through its
-/// triangles; [`UNUSED`] for a vertex no triangle uses. Sized by the positions and the largest
-/// id a triangle names, so that a triangle naming a vertex that does not exist is no panic.
-fn vertex_components(t: &Tessellated) -> Vec<u32> {
+/// Whether a triangle of `t` uses each vertex. Sized by the positions and the largest id a
+/// triangle names, so that a triangle naming a vertex that does not exist still counts (and
+/// is no panic here).
+fn used_vertices(t: &Tessellated) -> Vec<bool> {
     let ids = t
         .triangles
         .iter()
@@ -188,6 +177,17 @@ fn vertex_components(t: &Tessellated) -> Vec<u32> {
         .max()
         .unwrap_or(0)
         .max(t.positions.len());
+    let mut used = vec![false; ids];
+    for &v in t.triangles.iter().flatten() {
+        used[v as usize] = true;
+    }
+    used
+}
+
+/// The connected component of every vertex of `t` (a representative vertex id), through its
+/// triangles; [`UNUSED`] for a vertex no triangle uses (`used`, of [`used_vertices`]).
+fn vertex_components(t: &Tessellated, used: &[bool]) -> Vec<u32> {
+    let ids = used.len();
     let mut parent: Vec<u32> = (0..ids as u32).collect();
     fn root(parent: &mut [u32], mut v: u32) -> u32 {
         while parent[v as usize] != v {
@@ -204,10 +204,6 @@ fn vertex_components(t: &Tessellated) -> Vec<u32> {
                 parent[a.max(b) as usize] = a.min(b);
             }
         }
-    }
-    let mut used = vec![false; ids];
-    for &v in t.triangles.iter().flatten() {
-        used[v as usize] = true;
     }
     (0..ids as u32)
         .map(|v| {
