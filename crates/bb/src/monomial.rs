@@ -25,7 +25,7 @@
 //! assert!(f.value_at(&tet, p).abs() < 1e-14);
 //! ```
 
-use crate::multi_index::{self, MultiIndex, binomial, count, multinomial, rank};
+use crate::multi_index::{self, MultiIndex, binomial_f64, count, multinomial, rank};
 use crate::{BbError, BbPoly, Tetrahedron};
 
 /// A polynomial in N − 1 variables of total degree ≤ n in the power basis (see the module
@@ -232,6 +232,11 @@ impl<const N: usize> BbPoly<f64, N> {
     /// `c_μ = n!/((n−|μ|)! μ!) Δ^μ b_{n e_0}`, the forward differences
     /// `Δ^μ b = Σ_{ν≤μ} (−1)^{|μ−ν|} Π_k C(μ_k, ν_k) b_{(n−|ν|) e_0 + ν}` (Farin 1990, §18.2,
     /// generalised to N variables).
+    ///
+    /// The power basis is ill-conditioned against the Bernstein basis (Farouki & Rajan 1987):
+    /// the alternating sums cancel, so a round trip through [`BbPoly::from_power`] loses digits
+    /// with the degree. Measured on coefficients of size ~0.5: ~1e-15 at degree 4, ~3e-8 at
+    /// degree 20, ~1e2 at degree 40 (curves and triangles alike). Keep to low degrees.
     pub fn to_power(&self) -> PowerPoly<N> {
         let n = self.degree();
         let coeffs = multi_index::iter::<N>(n)
@@ -244,7 +249,7 @@ impl<const N: usize> BbPoly<f64, N> {
                     let mut w = 1.0;
                     let mut sign_exp = 0;
                     for k in 1..N {
-                        w *= binomial(mu[k], nu[k]) as f64;
+                        w *= binomial_f64(mu[k], nu[k]);
                         sign_exp += mu[k] - nu[k];
                     }
                     let mut idx = nu;
@@ -282,7 +287,7 @@ impl<const N: usize> BbPoly<f64, N> {
                 .map(|(mu, c)| {
                     let mut w = c / multinomial(&mu);
                     for k in 1..N {
-                        w *= binomial(lambda[k], mu[k]) as f64;
+                        w *= binomial_f64(lambda[k], mu[k]);
                     }
                     w
                 })

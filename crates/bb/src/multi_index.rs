@@ -46,7 +46,21 @@ const BINOM: [[usize; BINOM_COLS]; BINOM_ROWS] = {
     t
 };
 
-/// Binomial coefficient C(a, b) (0 when b > a). Exact for the sizes used here (a < 64).
+/// Binomial coefficient C(a, b) (0 when b > a), exact whenever it fits in `usize`, and
+/// `usize::MAX` when it does not (no polynomial has that many coefficients, so a count that
+/// large can only fail to allocate, as `Vec` does).
+///
+/// The running value `C(a, i)` of the multiplicative formula `C(a, i + 1) = C(a, i)(a − i)/(i + 1)`
+/// grows with `i ≤ b ≤ a/2` towards the result, so when the result fits in `usize` every
+/// product `C(a, i)(a − i) = C(a, i + 1)(i + 1)` fits in `u128` and every division is exact.
+/// (In `usize` the product overflowed first: C(64, 32) fits, its last product does not.)
+///
+/// ```
+/// use algesurf_bb::multi_index::binomial;
+/// assert_eq!(binomial(64, 32), 1_832_624_140_942_590_534);
+/// assert_eq!(binomial(3, 5), 0);
+/// assert_eq!(binomial(200, 100), usize::MAX); // ~9.1e58 does not fit
+/// ```
 #[inline]
 pub const fn binomial(a: usize, b: usize) -> usize {
     if a < BINOM_ROWS && b < BINOM_COLS {
@@ -56,13 +70,52 @@ pub const fn binomial(a: usize, b: usize) -> usize {
         return 0;
     }
     let b = if b > a - b { a - b } else { b };
-    let mut r = 1usize;
+    let mut r: u128 = 1;
     let mut i = 0;
     while i < b {
-        r = r * (a - i) / (i + 1);
+        // r = C(a, i) ≤ usize::MAX here, so the product fits in u128.
+        r = r * (a - i) as u128 / (i + 1) as u128;
+        if r > usize::MAX as u128 {
+            return usize::MAX;
+        }
         i += 1;
     }
-    r
+    r as usize
+}
+
+/// Binomial coefficient C(a, b) as `f64` (0 when b > a), for weights: correctly rounded while
+/// the products `C(a, i + 1)(i + 1)` fit in `u128` (the exact integer, rounded once; a ≤ 125
+/// always), beyond that within a relative `2b·u` (u = 2^−53: the multiplicative formula
+/// continued in `f64`, two roundings a step), and `+∞` beyond `f64`'s range
+/// (C(1030, 515) ≈ 2.9e308). Equal to `binomial(a, b) as f64` wherever that is exact.
+///
+/// ```
+/// use algesurf_bb::multi_index::binomial_f64;
+/// assert_eq!(binomial_f64(64, 32), 1_832_624_140_942_590_534u64 as f64);
+/// let c = binomial_f64(1000, 500); // ≈ 2.7029e299
+/// assert!((c / 2.702882409454365e299 - 1.0).abs() < 1e-12);
+/// ```
+pub fn binomial_f64(a: usize, b: usize) -> f64 {
+    if b > a {
+        return 0.0;
+    }
+    let b = b.min(a - b);
+    let mut r: u128 = 1;
+    let mut i = 0;
+    // Exact while C(a, i + 1)(i + 1) fits in u128 (see `binomial`).
+    while i < b {
+        match r.checked_mul((a - i) as u128) {
+            Some(p) => r = p / (i + 1) as u128,
+            None => break,
+        }
+        i += 1;
+    }
+    let mut x = r as f64;
+    while i < b {
+        x = x * (a - i) as f64 / (i + 1) as f64;
+        i += 1;
+    }
+    x
 }
 
 /// Number of multi-indices of degree `n` in `N` variables: C(n + N − 1, N − 1).
@@ -71,7 +124,7 @@ pub const fn count<const N: usize>(n: usize) -> usize {
     if N == 0 {
         return 0;
     }
-    binomial(n + N - 1, N - 1)
+    binomial(n.saturating_add(N - 1), N - 1)
 }
 
 /// The degree |λ| of a multi-index.
@@ -175,13 +228,22 @@ pub fn vertex<const N: usize>(n: usize, i: usize) -> MultiIndex<N> {
     l
 }
 
-/// Multinomial coefficient n!/(λ_0!⋯λ_{N−1}!) as f64 (exact below 2^53, i.e. for n ≤ 20).
+/// Multinomial coefficient n!/(λ_0!⋯λ_{N−1}!) as f64: the product of the binomials
+/// `C(λ_0 + … + λ_k, λ_k)` ([`binomial_f64`]), so exact below 2^53 (n ≤ 20 always) and within
+/// a relative `(2n + N)·u` beyond; `+∞` beyond `f64`'s range (n > 1029 for two variables).
+///
+/// ```
+/// use algesurf_bb::multi_index::multinomial;
+/// assert_eq!(multinomial(&[1, 1, 1]), 6.0);
+/// // C(100, 50) ≈ 1.0089e29: right at degrees where an integer product would overflow.
+/// assert!((multinomial(&[50, 50]) / 1.0089134454556419e29 - 1.0).abs() < 1e-14);
+/// ```
 pub fn multinomial<const N: usize>(lambda: &MultiIndex<N>) -> f64 {
     let mut acc = 1.0;
     let mut sum = 0;
     for &l in lambda {
         sum += l;
-        acc *= binomial(sum, l) as f64;
+        acc *= binomial_f64(sum, l);
     }
     acc
 }

@@ -231,7 +231,7 @@ pub fn bernstein(n: usize, i: usize, t: f64) -> f64 {
     if i > n {
         return 0.0;
     }
-    multi_index::binomial(n, i) as f64 * t.powi(i as i32) * (1.0 - t).powi((n - i) as i32)
+    multi_index::binomial_f64(n, i) * t.powi(i as i32) * (1.0 - t).powi((n - i) as i32)
 }
 
 /// The mixed triangle × interval BB polynomial of §2.4 of Bajaj 1994:

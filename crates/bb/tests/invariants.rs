@@ -53,6 +53,90 @@ fn coefficient_count_is_checked() {
     assert!(BbPoly::<f64, 4>::new(3, vec![0.0; 20]).is_ok());
 }
 
+/// Pascal's triangle by additions, in `u128` while the entries fit (`None` beyond): the
+/// oracle for the binomials, independent of their multiplicative formula.
+fn pascal(rows: usize) -> Vec<Vec<Option<u128>>> {
+    let mut t: Vec<Vec<Option<u128>>> = vec![vec![Some(1)]];
+    for a in 1..=rows {
+        let prev = &t[a - 1];
+        let row = (0..=a)
+            .map(|b| {
+                let left = if b == 0 { Some(0) } else { prev[b - 1] };
+                let right = prev.get(b).copied().unwrap_or(Some(0));
+                left?.checked_add(right?)
+            })
+            .collect();
+        t.push(row);
+    }
+    t
+}
+
+#[test]
+fn binomials_are_exact_wherever_they_fit() {
+    let u = f64::EPSILON / 2.0;
+    for (a, row) in pascal(160).iter().enumerate() {
+        for (b, exact) in row.iter().enumerate() {
+            let int = multi_index::binomial(a, b);
+            let float = multi_index::binomial_f64(a, b);
+            match exact {
+                Some(e) if *e <= usize::MAX as u128 => {
+                    assert_eq!(int as u128, *e, "C({a}, {b})");
+                }
+                _ => assert_eq!(int, usize::MAX, "C({a}, {b}) saturates"),
+            }
+            match exact {
+                // Every product of the formula fits in u128: rounded once.
+                Some(e) if a <= 125 => assert_eq!(float, *e as f64, "C({a}, {b}) as f64"),
+                Some(e) => {
+                    let rel = (float / *e as f64 - 1.0).abs();
+                    assert!(
+                        rel <= 2.0 * b.min(a - b) as f64 * u + u,
+                        "C({a}, {b}): {rel:e}"
+                    );
+                }
+                None => assert!(float > 2f64.powi(127), "C({a}, {b}) = {float:e}"),
+            }
+        }
+        assert_eq!(multi_index::binomial(a, a + 1), 0);
+        assert_eq!(multi_index::binomial_f64(a, a + 1), 0.0);
+    }
+    assert_eq!(multi_index::binomial_f64(1030, 515), f64::INFINITY);
+    assert_eq!(count::<4>(usize::MAX), usize::MAX);
+}
+
+#[test]
+fn products_of_high_degree_curves_are_pointwise() {
+    // The products' weights C(μ)C(ν)/C(λ) are ratios of multinomials, which an integer
+    // product overflowed from degree 64 on (garbage in release builds, a panic in debug ones).
+    for n in [10usize, 63, 64, 65, 80, 127, 200, 400] {
+        let (n1, n2) = (n / 2, n - n / 2);
+        let one = BbPoly::<f64, 2>::constant(n1, 1.0).mul_scalar_poly(&BbPoly::constant(n2, 1.0));
+        let worst = one
+            .coeffs()
+            .iter()
+            .map(|c| (c - 1.0).abs())
+            .fold(0.0, f64::max);
+        assert!(
+            worst <= 1e-13,
+            "degree {n}: 1 · 1 has a coefficient off by {worst:e}"
+        );
+        let a = BbPoly::<f64, 2>::from_fn(n1, |l| ((l[0] * 7 + 3) % 11) as f64 / 11.0 - 0.3);
+        let b = BbPoly::<f64, 2>::from_fn(n2, |l| ((l[1] * 5 + 1) % 13) as f64 / 13.0 - 0.4);
+        let ab = a.mul_scalar_poly(&b);
+        for t in [0.0, 0.125, 0.3, 0.5, 0.77, 1.0] {
+            let tau = [1.0 - t, t];
+            let (pa, pb, pab) = (a.eval(tau), b.eval(tau), ab.eval(tau));
+            // The coefficients are below 1 in size, so the products' are too: an absolute
+            // bound with the degree's rounding errors.
+            assert!(
+                (pab - pa * pb).abs() <= 1e-12,
+                "degree {n} at t = {t}: {pab} vs {}",
+                pa * pb
+            );
+        }
+    }
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(64))]
 

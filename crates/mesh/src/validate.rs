@@ -1,10 +1,10 @@
 //! Validation of a polygon mesh as read from a file. Every finding names the elements by their
 //! ids in the input (file) order.
 
-use crate::PolygonMesh;
 use crate::fasthash::{FaceKey, FastMap};
 use crate::geometry::{Aabb, exact_scale_exponent, newell_normal, power_of_two};
 use crate::topology::{Component, Topology};
+use crate::{MeshError, PolygonMesh};
 use glam::DVec3;
 use std::fmt;
 
@@ -24,6 +24,28 @@ pub struct ValidationOptions {
     /// `diagonal` is the bounding-box diagonal of the finite vertices
     /// (default [`DEFAULT_DEGENERATE_AREA`]).
     pub degenerate_area: f64,
+}
+
+impl ValidationOptions {
+    /// Checks the options: `degenerate_area` must be finite and ≥ 0 (a NaN or negative
+    /// threshold would flag no face, an infinite one every face).
+    ///
+    /// ```
+    /// use algesurf_mesh::ValidationOptions;
+    /// assert!(ValidationOptions::default().validate().is_ok());
+    /// let nan = ValidationOptions { degenerate_area: f64::NAN };
+    /// assert!(nan.validate().unwrap_err().to_string().contains("degenerate_area"));
+    /// ```
+    pub fn validate(&self) -> Result<(), MeshError> {
+        let x = self.degenerate_area;
+        if x >= 0.0 && x.is_finite() {
+            Ok(())
+        } else {
+            Err(MeshError::InvalidOption(format!(
+                "degenerate_area = {x} must be finite and ≥ 0"
+            )))
+        }
+    }
 }
 
 impl Default for ValidationOptions {
@@ -254,7 +276,7 @@ impl fmt::Display for ValidationReport {
 
 /// Validates `mesh` with the default options.
 pub fn validate(mesh: &PolygonMesh) -> ValidationReport {
-    validate_with(mesh, &ValidationOptions::default())
+    validate_checked(mesh, &ValidationOptions::default())
 }
 
 /// The faces of `mesh` that can enter a [`Topology`] (indices in range, at least three
@@ -300,8 +322,38 @@ pub(crate) fn well_formed(
 }
 
 /// Validates `mesh`: see [`Finding`] for what is checked. Topological checks (manifoldness,
-/// orientation, components) consider only the well-formed faces.
-pub fn validate_with(mesh: &PolygonMesh, options: &ValidationOptions) -> ValidationReport {
+/// orientation, components) consider only the well-formed faces. Fails only for options that
+/// [`ValidationOptions::validate`] refuses.
+///
+/// ```
+/// use algesurf_mesh::{Finding, PolygonMesh, ValidationOptions, validate_with};
+/// use glam::DVec3;
+/// let mut mesh = PolygonMesh::new();
+/// mesh.positions = vec![DVec3::ZERO, DVec3::X, DVec3::new(2.0, 1e-9, 0.0), DVec3::Y];
+/// mesh.push_face(&[0, 1, 2]); // a sliver: area 5e-10 against a diagonal² of 5
+/// mesh.push_face(&[1, 0, 3]);
+/// let degenerate = |options: &ValidationOptions| -> Result<Vec<u32>, algesurf_mesh::MeshError> {
+///     let report = validate_with(&mesh, options)?;
+///     Ok(report.findings.iter().filter_map(|f| match f {
+///         Finding::DegenerateFace { face, .. } => Some(*face),
+///         _ => None,
+///     }).collect())
+/// };
+/// assert_eq!(degenerate(&ValidationOptions { degenerate_area: 1e-9 })?, vec![0]);
+/// assert!(degenerate(&ValidationOptions::default())?.is_empty());
+/// assert!(degenerate(&ValidationOptions { degenerate_area: -1.0 }).is_err());
+/// # Ok::<(), algesurf_mesh::MeshError>(())
+/// ```
+pub fn validate_with(
+    mesh: &PolygonMesh,
+    options: &ValidationOptions,
+) -> Result<ValidationReport, MeshError> {
+    options.validate()?;
+    Ok(validate_checked(mesh, options))
+}
+
+/// [`validate_with`] with options already checked.
+fn validate_checked(mesh: &PolygonMesh, options: &ValidationOptions) -> ValidationReport {
     let mut findings = Vec::new();
     let (ids, offsets, corners) = well_formed(mesh, &mut findings);
     let nv = mesh.vertex_count();

@@ -408,6 +408,36 @@ fn repair_refuses_tolerances_out_of_range_naming_them() {
 }
 
 #[test]
+fn validation_refuses_a_threshold_that_would_flag_nothing_or_everything() {
+    use algesurf_mesh::{MeshError, ValidationOptions, validate_with};
+    let m = icosphere(1).to_polygon_mesh();
+    // NaN and negative thresholds flagged no face, an infinite one every face.
+    for x in [f64::NAN, -1e-12, f64::INFINITY, f64::NEG_INFINITY] {
+        let err = validate_with(&m, &ValidationOptions { degenerate_area: x }).unwrap_err();
+        assert!(
+            matches!(&err, MeshError::InvalidOption(msg) if msg.contains("degenerate_area")),
+            "{x}: {err}"
+        );
+    }
+    for x in [0.0, 1e-14, 1e-3] {
+        let report = validate_with(&m, &ValidationOptions { degenerate_area: x }).unwrap();
+        assert!(report.is_valid(), "{x}: {report}");
+    }
+    let everything = validate_with(
+        &m,
+        &ValidationOptions {
+            degenerate_area: 1.0,
+        },
+    )
+    .unwrap();
+    assert_eq!(
+        everything.findings.len(),
+        80,
+        "an area threshold of a diagonal² flags all"
+    );
+}
+
+#[test]
 fn repair_reports_dropped_faces_in_face_order() {
     let block = [
         vec![0, 1, 2],    // kept
