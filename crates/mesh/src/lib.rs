@@ -58,7 +58,9 @@ pub use repair::{RepairOptions, RepairReport, Repaired, repair};
 pub use validate::{Finding, ValidationOptions, ValidationReport, validate, validate_with};
 mod butterfly_normal;
 mod butterfly_ring;
-pub use butterfly_normal::{BUTTERFLY_NORMAL_LEVELS, butterfly_limit_normal};
+pub use butterfly_normal::{
+    BUTTERFLY_NORMAL_LEVELS, HUB_VALENCE, butterfly_limit_normal, butterfly_limit_normals,
+};
 mod folds;
 pub mod normals;
 pub mod parallel;

@@ -180,23 +180,26 @@ pub fn vertex_normals(mesh: &TriMesh, method: NormalMethod) -> Result<Vec<DVec3>
             })
             .collect(),
         NormalMethod::Butterfly | NormalMethod::LoopButterfly => {
-            let loop_normals = vertex_normals(mesh, NormalMethod::Loop)?;
+            let mut normals = vertex_normals(mesh, NormalMethod::Loop)?;
             let steep = STEEP_NORMAL_DEGREES.to_radians().cos();
-            // In parallel: each Butterfly normal subdivides a cut-out eight times (about a
-            // millisecond), and the vertices are independent.
-            (0..mesh.vertex_count() as u32)
+            let wanted: Vec<u32> = (0..mesh.vertex_count() as u32)
                 .into_par_iter()
-                .map(|v| {
-                    let n = loop_normals[v as usize];
-                    if method == NormalMethod::LoopButterfly
-                        && worst_face_cosine(mesh, v, n) >= steep
-                    {
-                        return n;
-                    }
-                    crate::butterfly_limit_normal(mesh, v, crate::BUTTERFLY_NORMAL_LEVELS)
-                        .unwrap_or(n)
+                .filter(|&v| {
+                    method == NormalMethod::Butterfly
+                        || worst_face_cosine(mesh, v, normals[v as usize]) < steep
                 })
-                .collect()
+                .collect();
+            // In parallel inside: each Butterfly normal subdivides a cut-out eight times
+            // (about a millisecond), and the vertices are independent but for those near a
+            // vertex of high valence, which share their first levels.
+            let limits =
+                crate::butterfly_limit_normals(mesh, &wanted, crate::BUTTERFLY_NORMAL_LEVELS);
+            for (&v, limit) in wanted.iter().zip(limits) {
+                if let Some(n) = limit {
+                    normals[v as usize] = n;
+                }
+            }
+            normals
         }
         NormalMethod::FromFile => {
             let file = mesh.file_normals().ok_or(MeshError::MissingNormals {
