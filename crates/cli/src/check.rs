@@ -88,8 +88,17 @@ pub fn run(args: &CheckArgs) -> Result<ExitCode, BoxError> {
         row.at = row.at.map(|at| built.numbering.repaired_location(at));
     }
     let hull_faces = built.surface.hull().mesh().face_count();
+    // With `--normals auto`, a surface built with angle-weighted normals after the auto ones
+    // left the hull overlapping (`normals_fallback.rs`) is the one checked: say so.
+    let fallback = built.normals_fallback.as_ref().map_or(String::new(), |f| {
+        format!(
+            "normals: the auto normals left the hull's tetrahedra overlapping after refinement \
+             ({}); checked the surface built with angle-weighted normals\n",
+            f.error
+        )
+    });
     let text = format!(
-        "{source}: {} faces in ({}), {hull_faces} hull faces, {} pieces; tessellation resolution {}\n{report}\n",
+        "{source}: {} faces in ({}), {hull_faces} hull faces, {} pieces; tessellation resolution {}\n{fallback}{report}\n",
         built.tri.face_count(),
         built.repair_text,
         view.pieces().len(),
@@ -106,6 +115,9 @@ pub fn run(args: &CheckArgs) -> Result<ExitCode, BoxError> {
             "free_parameters": args.surface.free_parameters.name(),
         });
         json["repair"] = built.repair_json.clone();
+        json["normals_fallback"] = serde_json::json!(built.normals_fallback.as_ref().map(|f| {
+            serde_json::json!({ "normals": "angle", "auto_error": f.error, "seconds": f.seconds })
+        }));
         write_atomic(path, &(serde_json::to_string_pretty(&json)? + "\n"))?;
     }
     Ok(ExitCode::from(exit_status(&report, &source)))

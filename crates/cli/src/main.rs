@@ -15,6 +15,7 @@ mod hints;
 mod info;
 mod interrupt;
 mod memory;
+mod normals_fallback;
 mod numbering;
 mod render;
 mod smooth;

@@ -46,7 +46,9 @@ const DEFAULT_MESH: &str = "built-in icosahedron (12 vertices, 20 triangles)";
 #[derive(clap::ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
 pub enum SmoothNormals {
     /// Loop normals, and the Butterfly limit normal at vertices where the Loop normal is
-    /// steeper than 60° against a face (sharp rims and folds, where hull refinement needs it).
+    /// steeper than 60° against a face (sharp rims and folds, where hull refinement needs it);
+    /// where refinement cannot separate the hull with these (meshes of long thin faces),
+    /// angle-weighted normals, and the summary says so.
     Auto,
     /// Normals of the Loop subdivision limit surface (the paper's choice).
     Loop,
@@ -420,6 +422,9 @@ pub(crate) struct Built {
     /// How `tri` is numbered against the repaired mesh: ids shown to the user are mapped back
     /// through it.
     pub numbering: crate::numbering::Numbering,
+    /// With `--normals auto`: the failed build whose hull refinement could not separate,
+    /// when the surface was then built with angle-weighted normals (`normals_fallback.rs`).
+    pub normals_fallback: Option<crate::normals_fallback::NormalsFallback>,
     /// One line naming the repairs.
     pub repair_text: String,
     /// The repairs as JSON.
@@ -565,10 +570,13 @@ pub(crate) fn build(
         ""
     };
     // On the spatial numbering (`numbering.rs`), falling back to `tri`'s own when that
-    // fails: `tri` is the mesh the surface was built on from here.
-    let ((surface, tri, numbering), dt, usage) =
+    // fails, and with `--normals auto` to angle-weighted normals when refinement cannot
+    // separate the hull (`normals_fallback.rs`): `tri` is the mesh the surface was built on
+    // from here.
+    let auto = args.normals == SmoothNormals::Auto;
+    let ((surface, tri, numbering, attempts), dt, usage) =
         measured("building the hull and the surface", progress, |p| {
-            crate::numbering::build_surface(tri, &normals, &options, p)
+            crate::normals_fallback::build_surface_or_fall_back(tri, &normals, auto, &options, p)
         });
     (t.construction, t.usage.construction) = (dt, usage);
     // Before the error is read: a `Cancelled` one is the signal's doing.
@@ -577,7 +585,13 @@ pub(crate) fn build(
         ApatchError::Hull(e) => {
             let hint = match e {
                 algesurf_hull::HullError::UnresolvedIntersection { .. } => format!(
-                    "{}{}",
+                    "{}{}{}",
+                    if attempts.fallback_failed {
+                        " (built again with angle-weighted normals, which left overlapping \
+                         tetrahedra too)"
+                    } else {
+                        ""
+                    },
                     hints::sharp_rim(args.normals, args.apex),
                     hints::thin_faces(&tri)
                 ),
@@ -596,6 +610,7 @@ pub(crate) fn build(
         tri,
         surface,
         numbering,
+        normals_fallback: attempts.fallback,
         repair_text,
         repair_json,
         timings: t,
@@ -663,6 +678,7 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
         mut tri,
         surface,
         numbering,
+        normals_fallback,
         repair_text,
         repair_json,
         timings,
@@ -819,6 +835,13 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
                 "seconds": f.seconds,
             })),
         },
+        // With `--normals auto`: the build whose hull did not separate, when the surface
+        // was then built with angle-weighted normals (`normals_fallback.rs`).
+        "normals_fallback": normals_fallback.as_ref().map(|f| json!({
+            "normals": "angle",
+            "auto_error": f.error,
+            "seconds": f.seconds,
+        })),
         "patches": {
             "face": counts.face,
             "edge": counts.edge,
@@ -926,6 +949,16 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
                 "normals: {} adjusted into their faces' cone (vertices {})",
                 adjusted.len(),
                 ids(&adjusted)
+            );
+        }
+        if let Some(fallback) = &normals_fallback {
+            let _ = writeln!(
+                s,
+                "normals: with the auto normals the hull's tetrahedra still overlapped after \
+                 refinement ({}; the error is in the report, `normals_fallback.auto_error`); \
+                 built with angle-weighted normals, which separate (construction's time \
+                 includes both)",
+                ms(fallback.seconds)
             );
         }
         if let Some(failure) = &spatial_failure {

@@ -435,10 +435,12 @@ fn a_failed_build_on_the_spatial_numbering_is_reported() {
 /// A mesh made of thin faces: spot's own A-patch tessellation at `--resolution 2 --across 1`
 /// (41 k faces, a tenth of them narrower than 1/20 of their longest edge: the one-step-wide
 /// edge patches). Refining its hull folds the surface where the thin faces are and the
-/// overlapping pairs multiply (135 to 4 641 in nine rounds); before the overlap bound it
-/// failed only at the round limit, with 153 k pairs. The command stops at the bound, names
-/// the thin faces as the likely cause, and writes nothing. (`ALGESURF_CORPUS`; skipped when
-/// unset.)
+/// overlapping pairs multiply (with the auto normals 24 to 4 641 in nine rounds, with Butterfly
+/// normals 30 to 4 426 in 18); before the overlap bound it failed only at the round limit,
+/// with 153 k pairs. With Butterfly normals the command stops
+/// at the bound, names the thin faces as the likely cause, and writes nothing; with the
+/// default normals it then builds with angle-weighted normals, whose hull needs no
+/// refinement. (`ALGESURF_CORPUS`; skipped when unset.)
 #[test]
 fn a_mesh_of_thin_faces_stops_at_the_overlap_bound_and_says_why() {
     let dir = TempDir::new("smooth", "thin-faces");
@@ -452,7 +454,16 @@ fn a_mesh_of_thin_faces_stops_at_the_overlap_bound_and_says_why() {
     assert!(out.status.success(), "{}", text(&out));
     let out = algesurf(
         dir.path(),
-        &["smooth", "strips.ply", "-o", "out.ply", "--resolution", "1"],
+        &[
+            "smooth",
+            "strips.ply",
+            "-o",
+            "out.ply",
+            "--resolution",
+            "1",
+            "--normals",
+            "butterfly",
+        ],
     );
     assert!(!out.status.success(), "{}", text(&out));
     let err = String::from_utf8_lossy(&out.stderr);
@@ -469,6 +480,17 @@ fn a_mesh_of_thin_faces_stops_at_the_overlap_bound_and_says_why() {
         "{err}"
     );
     assert!(!dir.path().join("out.ply").exists());
+    let out = algesurf(
+        dir.path(),
+        &["smooth", "strips.ply", "-o", "out.ply", "--resolution", "1"],
+    );
+    assert!(out.status.success(), "{}", text(&out));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        stdout.contains("built with angle-weighted normals"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("(0 refinements in 0 rounds)"), "{stdout}");
 }
 
 /// A 48-face bicone with angle-weighted normals makes hull refinement diverge (the overlaps
@@ -970,4 +992,163 @@ fn a_non_orientable_mesh_is_refused_as_such() {
     // Drawing the mesh itself needs no orientation.
     let out = algesurf(dir.path(), &["render", "mobius.obj", "-o", "mesh.png"]);
     assert!(out.status.success(), "{}", text(&out));
+}
+
+/// A flat washer (radii 0.5 and 1, thickness 0.2) of `n` segments whose four sides are each
+/// one strip of two triangles per segment, as CAD exporters triangulate it: its flat rings
+/// are strips of long slivers.
+fn strip_washer(n: u32) -> PolygonMesh {
+    let profile = [(0.5, 0.0), (1.0, 0.0), (1.0, 0.2), (0.5, 0.2)];
+    let mut mesh = PolygonMesh::new();
+    for i in 0..n {
+        let a = std::f64::consts::TAU * f64::from(i) / f64::from(n);
+        for (r, z) in profile {
+            mesh.positions
+                .push(glam::DVec3::new(r * a.cos(), r * a.sin(), z));
+        }
+    }
+    let id = |i: u32, j: u32| (i % n) * 4 + j % 4;
+    for i in 0..n {
+        for j in 0..4 {
+            let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+            mesh.push_face(&[a, b, c]);
+            mesh.push_face(&[a, c, d]);
+        }
+    }
+    mesh
+}
+
+/// The auto normals lean 68° off a strip washer's faces, refinement multiplies the
+/// tetrahedra's overlaps, and the command builds the surface again with angle-weighted
+/// normals (46°, no refinement needed): it says so in the summary and the report, and `check`
+/// passes on that surface. Normals chosen with `--normals` get no second try.
+#[test]
+fn auto_normals_fall_back_to_angle_weighted_ones_where_the_hull_cannot_separate() {
+    let dir = TempDir::new("smooth", "washer");
+    algesurf_io::write(
+        dir.path().join("washer.obj"),
+        &strip_washer(64),
+        &algesurf_io::WriteOptions::default(),
+    )
+    .expect("write washer.obj");
+    let out = algesurf(
+        dir.path(),
+        &[
+            "smooth",
+            "washer.obj",
+            "-o",
+            "out.ply",
+            "--report",
+            "r.json",
+        ],
+    );
+    assert!(out.status.success(), "{}", text(&out));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        stdout.contains("repair: no repairs needed"),
+        "the washer is built oriented: {stdout}"
+    );
+    assert!(
+        stdout.contains("built with angle-weighted normals, which separate"),
+        "{stdout}"
+    );
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("r.json")).unwrap()).unwrap();
+    let fallback = &report["normals_fallback"];
+    assert_eq!(fallback["normals"], "angle", "{report}");
+    assert!(
+        fallback["auto_error"]
+            .as_str()
+            .is_some_and(|e| e.contains("still intersect")),
+        "{fallback}"
+    );
+    assert_eq!(report["hull"]["refinements"], 0, "{report}");
+    let check = algesurf(dir.path(), &["check", "washer.obj"]);
+    assert!(check.status.success(), "{}", text(&check));
+    assert!(
+        String::from_utf8_lossy(&check.stdout)
+            .contains("checked the surface built with angle-weighted normals"),
+        "{}",
+        text(&check)
+    );
+    // Loop normals, asked for, fail as they are, without a second try.
+    let out = algesurf(
+        dir.path(),
+        &[
+            "smooth",
+            "washer.obj",
+            "-o",
+            "loop.ply",
+            "--normals",
+            "loop",
+        ],
+    );
+    assert!(!out.status.success(), "{}", text(&out));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("still intersect"), "{err}");
+    assert!(!err.contains("angle-weighted"), "{err}");
+    assert!(!dir.path().join("loop.ply").exists());
+}
+
+/// A 2 × 2 × 0.02 plate whose large sides are 2 × 2 grids (the thin sides one strip each):
+/// its tetrahedra overlap across the plate with the auto normals and with angle-weighted
+/// ones, and the error says that both were tried.
+#[test]
+fn a_plate_that_neither_normals_separate_fails_naming_both() {
+    let (n, size, thickness) = (2u32, 2.0, 0.02);
+    let mut mesh = PolygonMesh::new();
+    let mut ids: HashMap<[i64; 3], u32> = HashMap::new();
+    let mut point = |p: glam::DVec3| {
+        let key = (p * 1e9).round().to_array().map(|x| x as i64);
+        *ids.entry(key).or_insert_with(|| {
+            mesh.positions.push(p);
+            (mesh.positions.len() - 1) as u32
+        })
+    };
+    let mut faces = Vec::new();
+    let mut side = |o: glam::DVec3, u: glam::DVec3, w: glam::DVec3, nu: u32, nw: u32| {
+        for i in 0..nu {
+            for j in 0..nw {
+                let at = |a: u32, b: u32| {
+                    o + u * f64::from(a) / f64::from(nu) + w * f64::from(b) / f64::from(nw)
+                };
+                let q = [at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)].map(&mut point);
+                faces.push([q[0], q[1], q[2]]);
+                faces.push([q[0], q[2], q[3]]);
+            }
+        }
+    };
+    let (x, y, z) = (
+        glam::DVec3::X * size,
+        glam::DVec3::Y * size,
+        glam::DVec3::Z * thickness,
+    );
+    let o = glam::DVec3::ZERO;
+    side(o, y, x, n, n);
+    side(z, x, y, n, n);
+    side(o, x, z, n, 1);
+    side(y, z, x, 1, n);
+    side(o, z, y, 1, n);
+    side(x, y, z, n, 1);
+    for f in faces {
+        mesh.push_face(&f);
+    }
+    let dir = TempDir::new("smooth", "plate");
+    algesurf_io::write(
+        dir.path().join("plate.obj"),
+        &mesh,
+        &algesurf_io::WriteOptions::default(),
+    )
+    .expect("write plate.obj");
+    let out = algesurf(dir.path(), &["smooth", "plate.obj", "-o", "out.ply"]);
+    assert!(!out.status.success(), "{}", text(&out));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("still intersect"), "{err}");
+    assert!(
+        err.contains(
+            "built again with angle-weighted normals, which left overlapping tetrahedra too"
+        ),
+        "{err}"
+    );
+    assert!(!dir.path().join("out.ply").exists());
 }
