@@ -516,3 +516,41 @@ mod tests {
         }
     }
 }
+#[cfg(test)]
+mod cone_probe {
+    use super::*;
+    #[test]
+    fn cone_probe() {
+        let p = [
+            [0.0, 0.0, 1.5],
+            [-0.9569403357322089, -0.2902846772544621, 0.0],
+            [-0.9238795325112868, -0.38268343236508967, 0.0],
+        ]
+        .map(DVec3::from_array);
+        let n1 = [
+            [-3.4694469519536136e-17, -1.1449174941446927e-16, 1.0],
+            [-0.9569403357322638, -0.2902846772542814, 0.0],
+            [-0.9238795325112755, -0.38268343236511676, 0.0],
+        ]
+        .map(DVec3::from_array);
+        let n2 = [
+            [3.4760810780567357e-17, -1.144716250129491e-16, 1.0],
+            [-0.9569403357322638, -0.2902846772542814, 0.0],
+            [-0.9238795325112755, -0.38268343236511676, 0.0],
+        ]
+        .map(DVec3::from_array);
+        let fnorm = (p[1] - p[0]).cross(p[2] - p[0]).normalize();
+        let longest = (0..3)
+            .map(|k| p[k].distance(p[(k + 1) % 3]))
+            .fold(0.0, f64::max);
+        for n in [n1, n2] {
+            let hs = half_spaces(p, n, fnorm, 0.1 * longest, 0.1 * longest, Side::Positive);
+            for h in hs.iter() {
+                eprintln!("HS {:?} {:?} {:?} {:?}", h.a.x, h.a.y, h.a.z, h.b);
+            }
+            let x = nearest_in(&hs).unwrap();
+            eprintln!("X {:?} {}", x.to_array(), x.length());
+        }
+        eprintln!("FN {:?}", fnorm.to_array());
+    }
+}

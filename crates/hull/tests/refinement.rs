@@ -222,16 +222,14 @@ fn open_mesh_boundary_edges_have_no_edge_tetrahedra() {
     assert!(hull.intersections().is_empty());
 }
 
-/// A vertex whose faces fold over (the one-ring of a vertex of a jittered torus, where a
-/// random search for panics found it): their normals fit in no open hemisphere, so no vertex
-/// normal is on the positive side of them all, and the error blames the fold, not the normal.
-#[test]
-fn a_folded_vertex_is_reported_as_a_fold() {
+/// The one-ring of vertex 3 of a jittered torus, where a random search for panics found a
+/// suspected fold, with vertex 3 at height `z` (it was at 0.107).
+fn jittered_torus_fan(z: f64) -> (Vec<DVec3>, Vec<[u32; 3]>) {
     let p = vec![
         DVec3::new(0.8944, 0.8066, 0.3304),
         DVec3::new(0.4870, 0.6170, 0.3277),
         DVec3::new(-0.1370, 1.2730, 0.3087),
-        DVec3::new(0.1180, 0.5912, 0.1070), // the folded vertex
+        DVec3::new(0.1180, 0.5912, z),
         DVec3::new(-0.0987, 0.7400, -0.2318),
         DVec3::new(-0.4849, 0.5399, 0.2234),
         DVec3::new(-0.3991, 0.4546, -0.1654),
@@ -244,6 +242,20 @@ fn a_folded_vertex_is_reported_as_a_fold() {
         [3, 5, 6],
         [3, 6, 4],
     ];
+    (p, f)
+}
+
+/// A vertex whose faces fold over (the one-ring of a vertex of a jittered torus, where a
+/// random search for panics found it, with the vertex moved to the plane z = 0 below its
+/// ring): their normals fit in no open hemisphere, so no vertex normal is on the positive
+/// side of them all, and the error blames the fold, not the normal. Where the random search
+/// left it (z = 0.107) the faces fit one, barely: the exact cone axis reaches a least cosine
+/// of 0.0082, which the search `face_cone_axis` used until 2026-12-07 missed (it said
+/// −0.065), so that fan was called folded; there the normal is to blame
+/// (`a_fan_that_barely_fits_a_hemisphere_is_not_a_fold`).
+#[test]
+fn a_folded_vertex_is_reported_as_a_fold() {
+    let (p, f) = jittered_torus_fan(0.0);
     let mesh = algesurf_mesh::TriMesh::new(p.clone(), f.clone()).unwrap();
     let normals = algesurf_mesh::unit_face_normals(&mesh);
     let (_, least) = algesurf_mesh::face_cone_axis(&mesh, &normals, 3).unwrap();
@@ -261,6 +273,29 @@ fn a_folded_vertex_is_reported_as_a_fold() {
     assert!(err.to_string().contains("fold over"), "{err}");
     // A normal on the wrong side of faces that do fit a hemisphere is still the normal's
     // fault (`bad_input_is_reported`).
+}
+
+/// The same fan with the vertex where the random search left it: its faces fit in an open
+/// hemisphere (least cosine 0.0082 about the exact axis), so the area-weighted normal on the
+/// wrong side of one of them is the normal's fault, not a fold.
+#[test]
+fn a_fan_that_barely_fits_a_hemisphere_is_not_a_fold() {
+    let (p, f) = jittered_torus_fan(0.1070);
+    let mesh = algesurf_mesh::TriMesh::new(p.clone(), f.clone()).unwrap();
+    let normals = algesurf_mesh::unit_face_normals(&mesh);
+    let (axis, least) = algesurf_mesh::face_cone_axis(&mesh, &normals, 3).unwrap();
+    assert!((least - 0.0082).abs() < 1e-4, "{least}");
+    // The axis attains it: every face of the vertex is on its positive side.
+    for t in f.iter().filter(|t| t.contains(&3)) {
+        let [a, b, c] = t.map(|v| p[v as usize]);
+        assert!((b - a).cross(c - a).normalize().dot(axis) >= least * (1.0 - 1e-12));
+    }
+    let n = algesurf_mesh::vertex_normals(&mesh, algesurf_mesh::NormalMethod::Area).unwrap();
+    let err = SimplicialHull::new(&p, &f, &n, &HullOptions::default()).unwrap_err();
+    assert!(
+        matches!(err, HullError::NormalNotOnPositiveSide { vertex: 3, .. }),
+        "{err:?}"
+    );
 }
 
 #[test]

@@ -212,15 +212,17 @@ impl VertexTriangles {
     }
 }
 
-/// The best smallest cosine of vertex `v`'s faces' normals with one direction (see
-/// [`crate::cone_axis`]); `+∞` for a vertex with no non-degenerate triangle.
+/// The smallest cosine of vertex `v`'s faces' normals with the axis the search of
+/// [`crate::cone_axis`] ends at (a lower bound of the best one, which that axis attains: a
+/// vertex it calls folded may not be, and is moved the least distance that satisfies it);
+/// `+∞` for a vertex with no non-degenerate triangle.
 fn cone_best(v: u32, around: &VertexTriangles, faces: &[(u32, Vec<u32>)], p: &[DVec3]) -> f64 {
     let normals: Vec<DVec3> = around
         .of(v)
         .iter()
         .map(|&k| face_normal(&faces[k].1, p))
         .collect();
-    crate::cone_axis(&normals).map_or(f64::INFINITY, |(_, best)| best)
+    crate::normals::searched_cone_axis(&normals).map_or(f64::INFINITY, |(_, best)| best)
 }
 
 /// Whether every face normal of vertex `v` (from `normals`, one per face) makes at least

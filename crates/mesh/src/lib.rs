@@ -58,6 +58,7 @@ pub use repair::{RepairOptions, RepairReport, Repaired, repair};
 pub use validate::{Finding, ValidationOptions, ValidationReport, validate, validate_with};
 mod butterfly_normal;
 mod butterfly_ring;
+mod cone;
 pub use butterfly_normal::{
     BUTTERFLY_NORMAL_LEVELS, HUB_VALENCE, butterfly_limit_normal, butterfly_limit_normals,
 };
