@@ -40,6 +40,7 @@
 
 mod error;
 pub mod fasthash;
+pub mod flat;
 pub mod geometry;
 pub mod polygon;
 pub mod topology;
@@ -47,6 +48,7 @@ pub mod triangulate;
 pub mod trimesh;
 
 pub use error::MeshError;
+pub use flat::{FlatRemeshOptions, remesh_flat_regions};
 pub use geometry::Aabb;
 pub use polygon::{PolygonMesh, Property, PropertyValues};
 pub use topology::{Component, Fan, Topology};

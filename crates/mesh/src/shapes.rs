@@ -177,3 +177,74 @@ pub fn grid(nx: u32, ny: u32) -> TriMesh {
     }
     build(pos, tris)
 }
+
+/// How [`puck`] triangulates its flat caps.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CapTriangulation {
+    /// A fan from the rim's first vertex, as CAD exporters and ear clipping triangulate a
+    /// convex face: `n - 2` triangles, most of them thin.
+    Fan,
+    /// A zig-zag strip across the cap (rim vertices `0, 1, n-1, 2, n-2, …`).
+    Strip,
+}
+
+/// A closed cylinder of radius 1 from `z = 0` to `z = height` with `n ≥ 3` segments, its
+/// side split into `2n` triangles and its two caps triangulated without interior vertices
+/// as `caps` says: the CAD export of a puck or a shaft, whose fan caps are flat regions of
+/// thin faces (`crate::flat`). Outward oriented; `2n` vertices, rim of the bottom cap
+/// first.
+///
+/// ```
+/// use algesurf_mesh::shapes::{puck, CapTriangulation};
+/// let m = puck(48, 0.3, CapTriangulation::Fan);
+/// assert_eq!((m.vertex_count(), m.face_count()), (96, 4 * 48 - 4));
+/// assert!(m.signed_volume() > 0.0);
+/// ```
+pub fn puck(n: u32, height: f64, caps: CapTriangulation) -> TriMesh {
+    let n = n.max(3);
+    let mut pos = Vec::with_capacity(2 * n as usize);
+    for z in [0.0, height] {
+        for k in 0..n {
+            let a = 2.0 * PI * k as f64 / n as f64;
+            pos.push(DVec3::new(a.cos(), a.sin(), z));
+        }
+    }
+    let mut tris = Vec::with_capacity(4 * n as usize);
+    for k in 0..n {
+        let k1 = (k + 1) % n;
+        tris.push([k, k1, n + k1]);
+        tris.push([k, n + k1, n + k]);
+    }
+    // The cap's triangles counter-clockwise seen from +z, as rim indices.
+    let cap: Vec<[u32; 3]> = match caps {
+        CapTriangulation::Fan => (1..n - 1).map(|k| [0, k, k + 1]).collect(),
+        CapTriangulation::Strip => {
+            let mut order = vec![0];
+            let (mut lo, mut hi) = (1, n - 1);
+            while lo <= hi {
+                order.push(lo);
+                lo += 1;
+                if lo <= hi {
+                    order.push(hi);
+                    hi -= 1;
+                }
+            }
+            order
+                .windows(3)
+                .enumerate()
+                .map(|(i, w)| {
+                    if i % 2 == 0 {
+                        [w[0], w[1], w[2]]
+                    } else {
+                        [w[0], w[2], w[1]]
+                    }
+                })
+                .collect()
+        }
+    };
+    for [a, b, c] in cap {
+        tris.push([a, c, b]); // bottom: facing -z
+        tris.push([n + a, n + b, n + c]);
+    }
+    build(pos, tris)
+}
