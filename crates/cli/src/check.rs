@@ -160,6 +160,7 @@ mod tests {
             free_parameters: crate::smooth::FreeParametersArg::Quadric,
             gradients: crate::smooth::GradientsArg::Given,
             apex: crate::smooth::ApexArg::Nearest,
+            flat_regions: crate::flat::FlatRegionsArg::Remesh,
         }
     }
 }

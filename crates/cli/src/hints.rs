@@ -5,12 +5,11 @@
 use crate::smooth::{ApexArg, SmoothNormals};
 use algesurf_apatch::ApatchError;
 use algesurf_mesh::TriMesh;
+use algesurf_mesh::geometry::{THIN_FACE_SHAPE, triangle_shape};
 
-/// Twice a triangle's area over its longest edge squared (`√3/2` for an equilateral one, 0
-/// for a flat one; NaN for a point): the shape both [`sliver`] and [`thin_faces`] judge.
+/// The shape both [`sliver`] and [`thin_faces`] judge ([`triangle_shape`]).
 fn shape([a, b, c]: [glam::DVec3; 3]) -> f64 {
-    let longest = a.distance(b).max(b.distance(c)).max(c.distance(a));
-    (b - a).cross(c - a).length() / (longest * longest)
+    triangle_shape(a, b, c)
 }
 
 /// Where a tetrahedron on an input face came out degenerate and the face itself is a sliver
@@ -68,18 +67,13 @@ pub(crate) fn sharp_rim(normals: SmoothNormals, apex: ApexArg) -> &'static str {
     }
 }
 
-/// The shape below which [`thin_faces`] calls a face thin: twice its area over its longest
-/// edge squared (`√3/2 ≈ 0.87` for an equilateral triangle; 0.05 is a height of 1/20 of the
-/// longest edge).
-const THIN_SHAPE: f64 = 0.05;
-
 /// The share of thin faces from which [`thin_faces`] names them as the likely cause: 1 %. The
 /// corpus meshes that build have at most 0.1 % (the cow); the A-patch tessellations of the
 /// corpus at `--resolution 2 --across 1`, whose hull refinement diverges, have 10–26 %.
 const THIN_SHARE: f64 = 0.01;
 
 /// Where hull refinement failed on a mesh with many thin faces (at least [`THIN_SHARE`] of
-/// them thinner than [`THIN_SHAPE`]), says so: a face's tetrahedra inherit its shape, and the
+/// them thinner than [`THIN_FACE_SHAPE`]), says so: a face's tetrahedra inherit its shape, and the
 /// Butterfly point of a thin face's long edge moves off the face by about as much as the face
 /// is wide, so bisecting it folds the surface there, and the folds' tetrahedra overlap again,
 /// more of them each round. Empty otherwise.
@@ -89,7 +83,7 @@ pub(crate) fn thin_faces(tri: &TriMesh) -> String {
         .triangles()
         .iter()
         // A face of zero size has a NaN shape: repair's business, not a thin one.
-        .filter(|t| shape(t.map(|v| p[v as usize])) < THIN_SHAPE)
+        .filter(|t| shape(t.map(|v| p[v as usize])) < THIN_FACE_SHAPE)
         .count();
     let faces = tri.triangles().len();
     if faces == 0 || (thin as f64) < THIN_SHARE * faces as f64 {

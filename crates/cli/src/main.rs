@@ -9,6 +9,7 @@ mod continuity;
 mod convert;
 mod cpu;
 mod deviation;
+mod flat;
 mod frame;
 mod grid;
 mod hints;

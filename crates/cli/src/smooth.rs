@@ -12,6 +12,7 @@ use std::process::ExitCode;
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::time::Instant;
 
+use crate::flat::{FlatOutcome, FlatRegionsArg};
 use crate::frame::LocalFrame;
 use crate::grid::{GridArgs, Resolution};
 use crate::hints;
@@ -194,6 +195,10 @@ pub struct SurfaceArgs {
     /// Where the apexes of the face tetrahedra go.
     #[arg(long, value_enum, default_value_t = ApexArg::Nearest)]
     pub apex: ApexArg,
+    /// Flat regions with skinny faces (the fan caps CAD exporters write, ear-clipped
+    /// n-gons), on which the hull's refinement fails: retriangulated after repair, or kept.
+    #[arg(long, value_enum, default_value_t = FlatRegionsArg::Remesh)]
+    pub flat_regions: FlatRegionsArg,
 }
 
 type BoxError = Box<dyn std::error::Error>;
@@ -429,6 +434,8 @@ pub(crate) struct Built {
     pub repair_text: String,
     /// The repairs as JSON.
     pub repair_json: serde_json::Value,
+    /// What `--flat-regions` did (after repair, before the normals).
+    pub flat: FlatOutcome,
     /// Seconds of read, repair, normals, hull, function and construction.
     timings: Timings,
     /// With `--normals file`: the vertices whose file normals were zero or not finite
@@ -463,7 +470,7 @@ pub(crate) fn build(
     let mut t = Timings::default();
     let mut exponent = 0;
     // Read and repair (the built-in mesh needs neither).
-    let (tri, repair_text, repair_json) = match input {
+    let (tri, repair_text, repair_json, flat) = match input {
         Some(path) => {
             let (mesh, dt, usage) = measured("reading", progress, |_| crate::read_mesh(path));
             (t.read, t.usage.read) = (dt, usage);
@@ -516,12 +523,22 @@ pub(crate) fn build(
                     non_orientable(&source, r.non_orientable_components, &repaired.mesh).into(),
                 );
             }
-            (tri, text, rj)
+            // Part of the repair stage (its time and usage): the remesher's fast path, on a
+            // mesh without flat regions of skinny faces, is a pass over the edges.
+            let (flat, dt, usage) = measured("remeshing flat regions", progress, |_| {
+                crate::flat::apply(tri, args.flat_regions)
+            });
+            t.repair += dt;
+            t.usage.repair = t.usage.repair.plus(usage);
+            let (tri, flat) = flat
+                .map_err(|e| format!("{}: remeshing flat regions failed: {e}", path.display()))?;
+            (tri, text, rj, flat)
         }
         None => (
             shapes::icosphere(0),
             "no repairs needed".to_string(),
             json!({ "changed": false, "summary": "no repairs needed" }),
+            FlatOutcome::default(),
         ),
     };
     // A mesh far from the origin for its size is built about an origin near it, moved to
@@ -564,7 +581,10 @@ pub(crate) fn build(
         ..SurfaceOptions::default()
     };
     // Ids in hull and surface errors are those of the repaired mesh.
-    let ids_note = if repair_json["changed"] == true {
+    let ids_note = if flat.changed() {
+        " (vertex and face ids are those after repair and the remeshing of flat regions; \
+         `algesurf info` lists the repairs, and --flat-regions keep builds on the repaired faces)"
+    } else if repair_json["changed"] == true {
         " (vertex and face ids are those after repair; `algesurf info` lists the repairs)"
     } else {
         ""
@@ -613,6 +633,7 @@ pub(crate) fn build(
         normals_fallback: attempts.fallback,
         repair_text,
         repair_json,
+        flat,
         timings: t,
         file_normals,
         frame: LocalFrame { exponent, origin },
@@ -681,6 +702,7 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
         normals_fallback,
         repair_text,
         repair_json,
+        flat,
         timings,
         file_normals,
         frame,
@@ -808,6 +830,7 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
             "across": m,
             "normals": args.surface.normals.name(),
             "free_parameters": args.surface.free_parameters.name(),
+            "flat_regions": args.surface.flat_regions.name(),
         },
         "input_mesh": {
             "vertices": tri.vertex_count(),
@@ -820,6 +843,7 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
             "reversed": &file_normals.1,
         },
         "repair": repair_json,
+        "flat_regions": flat.json(args.surface.flat_regions),
         "hull": {
             "faces": hull_faces,
             "refinements": refinements,
@@ -908,6 +932,9 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
         use std::fmt::Write;
         let _ = writeln!(s, "{source} → {}", output.display());
         let _ = writeln!(s, "repair: {repair_text}");
+        if let Some(line) = flat.summary() {
+            let _ = writeln!(s, "{line}");
+        }
         let _ = writeln!(
             s,
             "faces in: {} ({} vertices); hull faces: {hull_faces} ({refinements} refinements in {rounds} rounds)",

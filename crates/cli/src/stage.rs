@@ -36,6 +36,16 @@ pub(crate) struct Usage {
     pub(crate) cpu: Option<f64>,
 }
 
+impl Usage {
+    /// The sum of two stages' usage (`None` where either is unknown).
+    pub(crate) fn plus(self, other: Usage) -> Usage {
+        Usage {
+            faults: self.faults.zip(other.faults).map(|(a, b)| a + b),
+            cpu: self.cpu.zip(other.cpu).map(|(a, b)| a + b),
+        }
+    }
+}
+
 /// The [`Usage`] of each stage.
 #[derive(Debug, Default, Clone)]
 pub(crate) struct StageUsage {

@@ -1018,10 +1018,12 @@ fn strip_washer(n: u32) -> PolygonMesh {
     mesh
 }
 
-/// The auto normals lean 68° off a strip washer's faces, refinement multiplies the
+/// On a strip washer whose flat rings are kept as they are (`--flat-regions keep`: strips of
+/// 5.6° needles), the auto normals lean 68° off the faces, refinement multiplies the
 /// tetrahedra's overlaps, and the command builds the surface again with angle-weighted
 /// normals (46°, no refinement needed): it says so in the summary and the report, and `check`
-/// passes on that surface. Normals chosen with `--normals` get no second try.
+/// passes on that surface. Normals chosen with `--normals` get no second try. With the
+/// rings remeshed (the default) the auto normals build it at once.
 #[test]
 fn auto_normals_fall_back_to_angle_weighted_ones_where_the_hull_cannot_separate() {
     let dir = TempDir::new("smooth", "washer");
@@ -1040,6 +1042,8 @@ fn auto_normals_fall_back_to_angle_weighted_ones_where_the_hull_cannot_separate(
             "out.ply",
             "--report",
             "r.json",
+            "--flat-regions",
+            "keep",
         ],
     );
     assert!(out.status.success(), "{}", text(&out));
@@ -1063,7 +1067,10 @@ fn auto_normals_fall_back_to_angle_weighted_ones_where_the_hull_cannot_separate(
         "{fallback}"
     );
     assert_eq!(report["hull"]["refinements"], 0, "{report}");
-    let check = algesurf(dir.path(), &["check", "washer.obj"]);
+    let check = algesurf(
+        dir.path(),
+        &["check", "washer.obj", "--flat-regions", "keep"],
+    );
     assert!(check.status.success(), "{}", text(&check));
     assert!(
         String::from_utf8_lossy(&check.stdout)
@@ -1081,6 +1088,8 @@ fn auto_normals_fall_back_to_angle_weighted_ones_where_the_hull_cannot_separate(
             "loop.ply",
             "--normals",
             "loop",
+            "--flat-regions",
+            "keep",
         ],
     );
     assert!(!out.status.success(), "{}", text(&out));
@@ -1088,6 +1097,29 @@ fn auto_normals_fall_back_to_angle_weighted_ones_where_the_hull_cannot_separate(
     assert!(err.contains("still intersect"), "{err}");
     assert!(!err.contains("angle-weighted"), "{err}");
     assert!(!dir.path().join("loop.ply").exists());
+    // Remeshed, the rings' faces are well shaped (25° and more) and the auto normals build
+    // without refinement or a second try.
+    let out = algesurf(
+        dir.path(),
+        &[
+            "smooth",
+            "washer.obj",
+            "-o",
+            "out.ply",
+            "--report",
+            "r.json",
+        ],
+    );
+    assert!(out.status.success(), "{}", text(&out));
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("r.json")).unwrap()).unwrap();
+    assert!(report["normals_fallback"].is_null(), "{report}");
+    assert_eq!(report["hull"]["refinements"], 0, "{report}");
+    assert_eq!(
+        report["flat_regions"]["remeshed"].as_array().map(Vec::len),
+        Some(2),
+        "{report}"
+    );
 }
 
 /// A 2 × 2 × 0.02 plate whose large sides are 2 × 2 grids (the thin sides one strip each):
