@@ -92,8 +92,9 @@ pub fn run(args: &CheckArgs) -> Result<ExitCode, BoxError> {
     // left the hull overlapping (`normals_fallback.rs`) is the one checked: say so.
     let fallback = built.normals_fallback.as_ref().map_or(String::new(), |f| {
         format!(
-            "normals: the auto normals left the hull's tetrahedra overlapping after refinement \
-             ({}); checked the surface built with angle-weighted normals\n",
+            "normals: with the auto normals {} ({}); checked the surface built with \
+             angle-weighted normals\n",
+            f.cause.failure(),
             f.error
         )
     });
@@ -116,7 +117,12 @@ pub fn run(args: &CheckArgs) -> Result<ExitCode, BoxError> {
         });
         json["repair"] = built.repair_json.clone();
         json["normals_fallback"] = serde_json::json!(built.normals_fallback.as_ref().map(|f| {
-            serde_json::json!({ "normals": "angle", "auto_error": f.error, "seconds": f.seconds })
+            serde_json::json!({
+                "normals": "angle",
+                "cause": f.cause.name(),
+                "auto_error": f.error,
+                "seconds": f.seconds,
+            })
         }));
         write_atomic(path, &(serde_json::to_string_pretty(&json)? + "\n"))?;
     }

@@ -12,6 +12,12 @@
 //! faces are cut, and there they lean 46°: the washer's hull, and that of the spot mesh
 //! tessellated into strips, need no refinement at all. Where the auto normals build, nothing
 //! changes; every corpus mesh builds with them.
+//!
+//! The second try is also made where the auto normals' hull has a degenerate tetrahedron: a
+//! tetrahedron's apex comes from its corners' normals (§3.1's `t_l`), and on a puck of 1024
+//! segments with remeshed fan caps, the faces that the single-sheet refinement splits at its
+//! rim get a negative face tetrahedron of relative volume 6e-11 (below the hull's `1e-10`)
+//! with the auto normals, while the angle-weighted normals build it.
 
 use crate::numbering::{Numbering, build_surface};
 use algesurf_apatch::{ApatchError, ApatchSurface, SurfaceOptions};
@@ -21,12 +27,65 @@ use algesurf_mesh::{NormalMethod, TriMesh, vertex_normals};
 use glam::DVec3;
 use std::time::Instant;
 
-/// A build with the auto normals whose hull refinement could not separate, after which the
-/// surface was built with angle-weighted normals.
+/// How the build with the auto normals failed, where a build with angle-weighted normals is
+/// tried next.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum FallbackCause {
+    /// Hull refinement could not separate the tetrahedra
+    /// ([`HullError::UnresolvedIntersection`]).
+    Unseparated,
+    /// A hull tetrahedron came out degenerate ([`HullError::DegenerateTetrahedron`]).
+    Degenerate,
+}
+
+impl FallbackCause {
+    /// The cause of `error`, where it is one that other normals can remove.
+    fn of(error: &ApatchError) -> Option<FallbackCause> {
+        match error {
+            ApatchError::Hull(HullError::UnresolvedIntersection { .. }) => {
+                Some(FallbackCause::Unseparated)
+            }
+            ApatchError::Hull(HullError::DegenerateTetrahedron { .. }) => {
+                Some(FallbackCause::Degenerate)
+            }
+            _ => None,
+        }
+    }
+
+    /// What went wrong with the auto normals, as a clause: "the hull's tetrahedra still
+    /// overlapped after refinement".
+    pub fn failure(self) -> &'static str {
+        match self {
+            FallbackCause::Unseparated => "the hull's tetrahedra still overlapped after refinement",
+            FallbackCause::Degenerate => "a hull tetrahedron came out degenerate",
+        }
+    }
+
+    /// What the angle-weighted normals did instead: "which separate".
+    pub fn success(self) -> &'static str {
+        match self {
+            FallbackCause::Unseparated => "which separate",
+            FallbackCause::Degenerate => "whose hull tetrahedra are not degenerate",
+        }
+    }
+
+    /// The report's name of the cause.
+    pub fn name(self) -> &'static str {
+        match self {
+            FallbackCause::Unseparated => "unseparated",
+            FallbackCause::Degenerate => "degenerate_tetrahedron",
+        }
+    }
+}
+
+/// A build with the auto normals whose hull refinement could not separate, or whose hull had
+/// a degenerate tetrahedron, after which the surface was built with angle-weighted normals.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct NormalsFallback {
     /// The failed build's error (ids of the repaired mesh).
     pub error: String,
+    /// How it failed.
+    pub cause: FallbackCause,
     /// Wall-clock seconds the failed build took: part of construction's time.
     pub seconds: f64,
 }
@@ -42,8 +101,9 @@ pub(crate) struct Attempts {
 }
 
 /// [`build_surface`] with `normals`; when they are the auto normals (`auto`) and the hull's
-/// tetrahedra stay overlapping after refinement ([`HullError::UnresolvedIntersection`]), built
-/// again with angle-weighted normals. Returns that build when it succeeds, else the first.
+/// tetrahedra stay overlapping after refinement ([`HullError::UnresolvedIntersection`]) or one
+/// of them is degenerate ([`HullError::DegenerateTetrahedron`]), built again with
+/// angle-weighted normals. Returns that build when it succeeds, else the first.
 pub(crate) fn build_surface_or_fall_back(
     tri: TriMesh,
     normals: &[DVec3],
@@ -58,13 +118,10 @@ pub(crate) fn build_surface_or_fall_back(
 ) {
     let start = Instant::now();
     let (first, tri, numbering) = build_surface(tri, normals, options, progress);
-    let unseparated = matches!(
-        &first,
-        Err(ApatchError::Hull(HullError::UnresolvedIntersection { .. }))
-    );
-    if !(auto && unseparated) {
+    let cause = first.as_ref().err().and_then(FallbackCause::of);
+    let Some(cause) = cause.filter(|_| auto) else {
         return (first, tri, numbering, Attempts::default());
-    }
+    };
     let seconds = start.elapsed().as_secs_f64();
     // `tri` is numbered as the failed build left it: the normals follow that numbering.
     let Ok(angle) = vertex_normals(&tri, NormalMethod::Angle) else {
@@ -75,6 +132,7 @@ pub(crate) fn build_surface_or_fall_back(
         (Err(e), Ok(surface)) => {
             let fallback = NormalsFallback {
                 error: e.to_string(),
+                cause,
                 seconds,
             };
             let attempts = Attempts {

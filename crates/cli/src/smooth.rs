@@ -615,6 +615,11 @@ pub(crate) fn build(
                     hints::sharp_rim(args.normals, args.apex),
                     hints::thin_faces(&tri)
                 ),
+                algesurf_hull::HullError::DegenerateTetrahedron { .. }
+                    if attempts.fallback_failed =>
+                {
+                    " (built again with angle-weighted normals, which failed too)".to_string()
+                }
                 _ => String::new(),
             };
             format!("{source}: cannot build the simplicial hull: {e}{ids_note}{hint}")
@@ -859,10 +864,12 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
                 "seconds": f.seconds,
             })),
         },
-        // With `--normals auto`: the build whose hull did not separate, when the surface
-        // was then built with angle-weighted normals (`normals_fallback.rs`).
+        // With `--normals auto`: the build whose hull did not separate or had a degenerate
+        // tetrahedron, when the surface was then built with angle-weighted normals
+        // (`normals_fallback.rs`).
         "normals_fallback": normals_fallback.as_ref().map(|f| json!({
             "normals": "angle",
+            "cause": f.cause.name(),
             "auto_error": f.error,
             "seconds": f.seconds,
         })),
@@ -981,11 +988,12 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
         if let Some(fallback) = &normals_fallback {
             let _ = writeln!(
                 s,
-                "normals: with the auto normals the hull's tetrahedra still overlapped after \
-                 refinement ({}; the error is in the report, `normals_fallback.auto_error`); \
-                 built with angle-weighted normals, which separate (construction's time \
-                 includes both)",
-                ms(fallback.seconds)
+                "normals: with the auto normals {} ({}; the error is in the report, \
+                 `normals_fallback.auto_error`); built with angle-weighted normals, {} \
+                 (construction's time includes both)",
+                fallback.cause.failure(),
+                ms(fallback.seconds),
+                fallback.cause.success()
             );
         }
         if let Some(failure) = &spatial_failure {

@@ -163,3 +163,49 @@ fn meshes_without_skinny_flat_regions_are_untouched() {
     }
     assert!(outputs[0] == outputs[1], "the same bytes");
 }
+
+/// With fan caps of 896 segments remeshed, the auto normals' hull has a degenerate negative
+/// face tetrahedron (relative volume below the hull's `1e-10`, at the rim faces the
+/// single-sheet refinement splits); the command builds again with angle-weighted normals,
+/// whose hull has none, and says why in the summary and the report. (With the caps kept, the
+/// puck fails whatever the normals.)
+#[test]
+fn a_degenerate_tetrahedron_of_the_auto_normals_falls_back_to_angle_weighted_ones() {
+    let dir = TempDir::new("flat", "puck896");
+    let input = puck(896, 0.3, CapTriangulation::Fan);
+    write(&dir, "puck.obj", &polygon_mesh(&input));
+    let out = algesurf(
+        dir.path(),
+        &[
+            "smooth",
+            "puck.obj",
+            "-o",
+            "out.ply",
+            "--resolution",
+            "2",
+            "--report",
+            "r.json",
+        ],
+    );
+    assert!(out.status.success(), "{}", text(&out));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        stdout.contains("with the auto normals a hull tetrahedron came out degenerate"),
+        "{stdout}"
+    );
+    let r = report(&dir, "r.json");
+    let fallback = &r["normals_fallback"];
+    assert_eq!(fallback["normals"], "angle", "{fallback}");
+    assert_eq!(fallback["cause"], "degenerate_tetrahedron", "{fallback}");
+    assert!(
+        fallback["auto_error"]
+            .as_str()
+            .is_some_and(|e| e.contains("is degenerate")),
+        "{fallback}"
+    );
+    assert_eq!(r["missed_rays"], 0);
+    assert_eq!(r["multiple_roots"], 0);
+    let mesh = algesurf_io::read(dir.path().join("out.ply")).unwrap();
+    assert_eq!(&mesh.positions[..2 * 896], input.positions());
+    assert!(closed_manifold(&mesh));
+}
