@@ -116,14 +116,8 @@ pub fn run(args: &CheckArgs) -> Result<ExitCode, BoxError> {
             "free_parameters": args.surface.free_parameters.name(),
         });
         json["repair"] = built.repair_json.clone();
-        json["normals_fallback"] = serde_json::json!(built.normals_fallback.as_ref().map(|f| {
-            serde_json::json!({
-                "normals": "angle",
-                "cause": f.cause.name(),
-                "auto_error": f.error,
-                "seconds": f.seconds,
-            })
-        }));
+        json["normals_fallback"] =
+            serde_json::json!(built.normals_fallback.as_ref().map(|f| f.json()));
         write_atomic(path, &(serde_json::to_string_pretty(&json)? + "\n"))?;
     }
     Ok(ExitCode::from(exit_status(&report, &source)))

@@ -7,11 +7,6 @@ use algesurf_apatch::ApatchError;
 use algesurf_mesh::TriMesh;
 use algesurf_mesh::geometry::{THIN_FACE_SHAPE, triangle_shape};
 
-/// The shape both [`sliver`] and [`thin_faces`] judge ([`triangle_shape`]).
-fn shape([a, b, c]: [glam::DVec3; 3]) -> f64 {
-    triangle_shape(a, b, c)
-}
-
 /// Where a tetrahedron on an input face came out degenerate and the face itself is a sliver
 /// (twice its area over its longest edge squared below 1e-6: a needle or a cap), says so:
 /// the face's tetrahedra inherit its shape, and `Simplex`'s tolerance (1e-10 of the longest
@@ -34,7 +29,7 @@ pub(crate) fn sliver(tri: &TriMesh, e: &ApatchError) -> String {
         return String::new();
     };
     let p = tri.positions();
-    let shape = shape([a, b, c].map(|v| p[v as usize]));
+    let shape = triangle_shape(p[a as usize], p[b as usize], p[c as usize]);
     if shape < 1e-6 {
         format!(
             " (input face {input_face} is a sliver: twice its area over its longest edge squared \
@@ -83,7 +78,9 @@ pub(crate) fn thin_faces(tri: &TriMesh) -> String {
         .triangles()
         .iter()
         // A face of zero size has a NaN shape: repair's business, not a thin one.
-        .filter(|t| shape(t.map(|v| p[v as usize])) < THIN_FACE_SHAPE)
+        .filter(|&&[a, b, c]| {
+            triangle_shape(p[a as usize], p[b as usize], p[c as usize]) < THIN_FACE_SHAPE
+        })
         .count();
     let faces = tri.triangles().len();
     if faces == 0 || (thin as f64) < THIN_SHARE * faces as f64 {

@@ -90,6 +90,19 @@ pub(crate) struct NormalsFallback {
     pub seconds: f64,
 }
 
+impl NormalsFallback {
+    /// The reports' `normals_fallback` object (`algesurf smooth --report`, `algesurf check
+    /// --json`).
+    pub fn json(&self) -> serde_json::Value {
+        serde_json::json!({
+            "normals": "angle",
+            "cause": self.cause.name(),
+            "auto_error": self.error,
+            "seconds": self.seconds,
+        })
+    }
+}
+
 /// What [`build_surface_or_fall_back`] did besides the build it returns.
 #[derive(Debug, Default)]
 pub(crate) struct Attempts {

@@ -867,12 +867,7 @@ pub fn run(args: &SmoothArgs) -> Result<ExitCode, BoxError> {
         // With `--normals auto`: the build whose hull did not separate or had a degenerate
         // tetrahedron, when the surface was then built with angle-weighted normals
         // (`normals_fallback.rs`).
-        "normals_fallback": normals_fallback.as_ref().map(|f| json!({
-            "normals": "angle",
-            "cause": f.cause.name(),
-            "auto_error": f.error,
-            "seconds": f.seconds,
-        })),
+        "normals_fallback": normals_fallback.as_ref().map(|f| f.json()),
         "patches": {
             "face": counts.face,
             "edge": counts.edge,

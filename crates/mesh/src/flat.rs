@@ -56,6 +56,7 @@ mod remesh;
 mod rim;
 
 use crate::geometry::{triangle_min_angle, triangle_normal};
+use crate::union_find::{find, union};
 use crate::{MeshError, TriMesh};
 use glam::DVec3;
 
@@ -310,25 +311,6 @@ fn canonical([a, b, c]: [u32; 3]) -> [u32; 3] {
         [b, c, a]
     } else {
         [c, a, b]
-    }
-}
-
-fn find(parent: &mut [u32], mut x: u32) -> u32 {
-    while parent[x as usize] != x {
-        let g = parent[parent[x as usize] as usize];
-        parent[x as usize] = g;
-        x = g;
-    }
-    x
-}
-
-/// Joins the sets of `a` and `b`, keeping the smaller root (so roots do not depend on the
-/// order of the joins).
-fn union(parent: &mut [u32], a: u32, b: u32) {
-    let (ra, rb) = (find(parent, a), find(parent, b));
-    if ra != rb {
-        let (lo, hi) = (ra.min(rb), ra.max(rb));
-        parent[hi as usize] = lo;
     }
 }
 

@@ -46,6 +46,7 @@ pub mod polygon;
 pub mod topology;
 pub mod triangulate;
 pub mod trimesh;
+mod union_find;
 
 pub use error::MeshError;
 pub use flat::{FlatRemeshOptions, remesh_flat_regions};

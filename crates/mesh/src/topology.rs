@@ -677,14 +677,6 @@ impl Topology {
         // `parent[f] ≤ f` always (the larger root is hung under the smaller), so a set's root
         // is its lowest face, and the walk halves its path as it goes.
         let mut parent: Vec<u32> = (0..nf as u32).collect();
-        fn root(parent: &mut [u32], mut f: u32) -> u32 {
-            while parent[f as usize] != f {
-                let up = parent[parent[f as usize] as usize];
-                parent[f as usize] = up;
-                f = up;
-            }
-            f
-        }
         for e in 0..self.edges.len() {
             let sides = &self.edge_corners
                 [self.edge_offsets[e] as usize..self.edge_offsets[e + 1] as usize];
@@ -693,14 +685,7 @@ impl Topology {
             };
             let a = self.corner_face[first as usize];
             for &h in rest {
-                let (ra, rb) = (
-                    root(&mut parent, a),
-                    root(&mut parent, self.corner_face[h as usize]),
-                );
-                if ra != rb {
-                    let (lo, hi) = if ra < rb { (ra, rb) } else { (rb, ra) };
-                    parent[hi as usize] = lo;
-                }
+                crate::union_find::union(&mut parent, a, self.corner_face[h as usize]);
             }
         }
         // Faces in order, each replaced by its component's number: `parent[f] ≤ f`, and a

@@ -87,26 +87,9 @@ pub(super) fn retriangulate(
     vertices.sort_unstable();
     vertices.dedup();
     let local: FastMap<u32, usize> = vertices.iter().enumerate().map(|(i, &v)| (v, i)).collect();
-    // Its boundary: the directed edges of its faces whose reverse is not one of them.
-    let directed: Vec<[u32; 2]> = region
-        .faces
-        .iter()
-        .flat_map(|&f| {
-            let [a, b, c] = tris[f as usize];
-            [[a, b], [b, c], [c, a]]
-        })
-        .collect();
-    let set: FastSet<[u32; 2]> = directed.iter().copied().collect();
-    if set.len() != directed.len() {
-        // A directed edge twice: two of its faces overlap along it.
-        return Err(SkipReason::Overlapping);
-    }
-    let mut boundary: Vec<[u32; 2]> = directed
-        .iter()
-        .copied()
-        .filter(|&[a, b]| !set.contains(&[b, a]))
-        .collect();
-    boundary.sort_unstable();
+    // A directed edge twice: two of its faces overlap along it.
+    let boundary = directed_boundary(region.faces.iter().map(|&f| tris[f as usize]))
+        .ok_or(SkipReason::Overlapping)?;
 
     let frame = Frame::new(region, vertices.iter().map(|&v| p[v as usize]));
     if !(frame.scale > 0.0 && frame.scale.is_finite()) {
@@ -252,6 +235,24 @@ fn refine(
     Ok((points, faces))
 }
 
+/// The boundary of `triangles`: their directed edges whose reverse is not one of them,
+/// sorted; `None` when a directed edge is there twice (two faces overlap along it).
+fn directed_boundary(triangles: impl Iterator<Item = [u32; 3]>) -> Option<Vec<[u32; 2]>> {
+    let directed: Vec<[u32; 2]> = triangles
+        .flat_map(|[a, b, c]| [[a, b], [b, c], [c, a]])
+        .collect();
+    let set: FastSet<[u32; 2]> = directed.iter().copied().collect();
+    if set.len() != directed.len() {
+        return None;
+    }
+    let mut boundary: Vec<[u32; 2]> = directed
+        .into_iter()
+        .filter(|&[a, b]| !set.contains(&[b, a]))
+        .collect();
+    boundary.sort_unstable();
+    Some(boundary)
+}
+
 /// Checks the new triangulation against the region: every triangle of positive area, every
 /// region vertex used, no directed edge twice, the same boundary edge for edge and direction,
 /// and the same area within `1e-9` (relative; the sums differ by rounding only, ~`n` ulps).
@@ -285,20 +286,7 @@ fn check(
     if used.iter().any(|u| !u) {
         return Err(SkipReason::Mismatch);
     }
-    let directed: Vec<[u32; 2]> = triangles
-        .iter()
-        .flat_map(|&[a, b, c]| [[a, b], [b, c], [c, a]])
-        .collect();
-    let set: FastSet<[u32; 2]> = directed.iter().copied().collect();
-    if set.len() != directed.len() {
-        return Err(SkipReason::Mismatch);
-    }
-    let mut new_boundary: Vec<[u32; 2]> = directed
-        .into_iter()
-        .filter(|&[a, b]| !set.contains(&[b, a]))
-        .collect();
-    new_boundary.sort_unstable();
-    if new_boundary != boundary {
+    if directed_boundary(triangles.iter().copied()).as_deref() != Some(boundary) {
         return Err(SkipReason::Mismatch);
     }
     let old_area: f64 = region
