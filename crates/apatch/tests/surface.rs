@@ -539,3 +539,47 @@ fn a_sheet_margin_out_of_range_is_refused_naming_it() {
         );
     }
 }
+
+/// The face patches beside a zero convex edge meet along the edge itself (F vanishes there),
+/// so the tessellation shares the edge's points between them. A thin plate remeshed at its
+/// rims (`algesurf_mesh::flat`) has such edges on its creases whose Loop normals lean a few
+/// ulps along the edge (the remeshed rims' one-rings are not exactly symmetric): F at the
+/// edge's points is then ~20 ε of the rays' coefficients instead of 0, and the tessellation
+/// used to crack there (172 edges of one triangle at resolution 4, Euler characteristic −25
+/// instead of 2). The rays on zero convex edges now start on the surface by the edge's
+/// classification.
+#[test]
+fn face_patches_meet_without_cracks_along_zero_convex_edges_whose_normals_lean_by_ulps() {
+    use algesurf_hull::Convexity;
+    use algesurf_mesh::flat::{FlatRemeshOptions, remesh_flat_regions};
+    use algesurf_mesh::shapes::plate;
+    use algesurf_mesh::{NormalMethod, vertex_normals};
+    let mesh = remesh_flat_regions(&plate(2, 2.0, 0.02), &FlatRemeshOptions::default())
+        .unwrap()
+        .mesh;
+    let normals = vertex_normals(&mesh, NormalMethod::LoopButterfly).unwrap();
+    let s = ApatchSurface::new(&mesh, &normals, &SurfaceOptions::default()).unwrap();
+    // The case the test is about: zero convex interior edges whose slopes are not exactly 0.
+    let leaning = s
+        .hull()
+        .edges()
+        .iter()
+        .filter(|e| {
+            e.convexity == Convexity::ZeroConvex
+                && !e.is_boundary()
+                && e.slopes.iter().any(|&a| a != 0.0)
+        })
+        .count();
+    assert!(leaning > 100, "{leaning} leaning zero convex edges");
+    let r = battery(&s, 4);
+    assert!(r.passed(), "{r}");
+    let t = s.tessellate(3, 2).unwrap();
+    let mut edges: std::collections::HashMap<[u32; 2], u32> = std::collections::HashMap::new();
+    for tri in &t.triangles {
+        for k in 0..3 {
+            let (a, b) = (tri[k], tri[(k + 1) % 3]);
+            *edges.entry([a.min(b), a.max(b)]).or_insert(0) += 1;
+        }
+    }
+    assert!(edges.values().all(|&c| c == 2));
+}

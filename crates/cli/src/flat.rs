@@ -52,9 +52,17 @@ impl FlatOutcome {
             let least = |f: fn(&algesurf_mesh::flat::RemeshedRegion) -> f64| {
                 r.remeshed.iter().map(f).fold(f64::INFINITY, f64::min)
             };
+            let split = if r.split_edges > 0 {
+                format!(
+                    ", {} of narrow strips split at creases",
+                    plural(r.split_edges as usize, "edge")
+                )
+            } else {
+                String::new()
+            };
             parts.push(format!(
                 "remeshed {} with {skinny} skinny faces ({before} faces → {after}, {} vertices \
-                 added; least angle {:.1}° → {:.1}°{})",
+                 added{split}; least angle {:.1}° → {:.1}°{})",
                 plural(r.remeshed.len(), "region"),
                 r.added_vertices,
                 least(|x| x.min_angle_before),
@@ -88,11 +96,13 @@ impl FlatOutcome {
         json!({
             "mode": arg.name(),
             "added_vertices": r.added_vertices,
+            "split_edges": r.split_edges,
             "remeshed": r.remeshed.iter().map(|x| json!({
                 "first_face": x.faces[0],
                 "faces": x.faces.len(),
                 "new_faces": x.new_faces,
                 "added_vertices": x.added_vertices,
+                "boundary_vertices": x.boundary_vertices,
                 "skinny_before": x.skinny_before,
                 "skinny_after": x.skinny_after,
                 "min_angle_before_degrees": x.min_angle_before,

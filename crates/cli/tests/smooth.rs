@@ -896,7 +896,8 @@ fn an_output_in_a_folder_that_takes_no_files_fails_before_any_work() {
 }
 
 /// Normals moved into their faces' cone before the hull are reported: a 1 × 1 × 0.01 box's
-/// Loop normals stand far off its thin sides' faces at all eight corners.
+/// Loop normals stand far off its thin sides' faces at all eight corners. (Kept as it is:
+/// remeshed, the thin sides' rims are split and no corner's normal needs moving.)
 #[test]
 fn normals_adjusted_into_their_faces_cone_are_reported() {
     let dir = TempDir::new("smooth", "adjusted");
@@ -919,6 +920,8 @@ fn normals_adjusted_into_their_faces_cone_are_reported() {
             "out.ply",
             "--resolution",
             "2",
+            "--flat-regions",
+            "keep",
             "--report",
             "r.json",
         ],
@@ -1122,57 +1125,32 @@ fn auto_normals_fall_back_to_angle_weighted_ones_where_the_hull_cannot_separate(
     );
 }
 
-/// A 2 × 2 × 0.02 plate whose large sides are 2 × 2 grids (the thin sides one strip each):
-/// its tetrahedra overlap across the plate with the auto normals and with angle-weighted
-/// ones, and the error says that both were tried.
+/// A 2 × 2 × 0.02 plate whose large sides are 2 × 2 grids (the thin sides one strip each of
+/// 1.1° faces): kept as it is, its tetrahedra overlap across the plate with the auto normals
+/// and with angle-weighted ones, and the error says that both were tried. Remeshed (the
+/// default), its thin sides' long edges are split at the creases and every side is
+/// retriangulated, and it builds without refinement and passes every check.
 #[test]
-fn a_plate_that_neither_normals_separate_fails_naming_both() {
-    let (n, size, thickness) = (2u32, 2.0, 0.02);
-    let mut mesh = PolygonMesh::new();
-    let mut ids: HashMap<[i64; 3], u32> = HashMap::new();
-    let mut point = |p: glam::DVec3| {
-        let key = (p * 1e9).round().to_array().map(|x| x as i64);
-        *ids.entry(key).or_insert_with(|| {
-            mesh.positions.push(p);
-            (mesh.positions.len() - 1) as u32
-        })
-    };
-    let mut faces = Vec::new();
-    let mut side = |o: glam::DVec3, u: glam::DVec3, w: glam::DVec3, nu: u32, nw: u32| {
-        for i in 0..nu {
-            for j in 0..nw {
-                let at = |a: u32, b: u32| {
-                    o + u * f64::from(a) / f64::from(nu) + w * f64::from(b) / f64::from(nw)
-                };
-                let q = [at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)].map(&mut point);
-                faces.push([q[0], q[1], q[2]]);
-                faces.push([q[0], q[2], q[3]]);
-            }
-        }
-    };
-    let (x, y, z) = (
-        glam::DVec3::X * size,
-        glam::DVec3::Y * size,
-        glam::DVec3::Z * thickness,
-    );
-    let o = glam::DVec3::ZERO;
-    side(o, y, x, n, n);
-    side(z, x, y, n, n);
-    side(o, x, z, n, 1);
-    side(y, z, x, 1, n);
-    side(o, z, y, 1, n);
-    side(x, y, z, n, 1);
-    for f in faces {
-        mesh.push_face(&f);
-    }
+fn a_thin_plate_builds_once_its_narrow_sides_are_split_and_fails_kept_naming_both_normals() {
     let dir = TempDir::new("smooth", "plate");
+    let plate = shapes::plate(2, 2.0, 0.02);
     algesurf_io::write(
         dir.path().join("plate.obj"),
-        &mesh,
+        &PolygonMesh::from_triangles(plate.positions().to_vec(), plate.triangles()),
         &algesurf_io::WriteOptions::default(),
     )
     .expect("write plate.obj");
-    let out = algesurf(dir.path(), &["smooth", "plate.obj", "-o", "out.ply"]);
+    let out = algesurf(
+        dir.path(),
+        &[
+            "smooth",
+            "plate.obj",
+            "-o",
+            "out.ply",
+            "--flat-regions",
+            "keep",
+        ],
+    );
     assert!(!out.status.success(), "{}", text(&out));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("still intersect"), "{err}");
@@ -1183,4 +1161,27 @@ fn a_plate_that_neither_normals_separate_fails_naming_both() {
         "{err}"
     );
     assert!(!dir.path().join("out.ply").exists());
+
+    let out = algesurf(
+        dir.path(),
+        &["smooth", "plate.obj", "-o", "out.ply", "--report", "r.json"],
+    );
+    assert!(out.status.success(), "{}", text(&out));
+    let summary = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        summary.contains("16 edges of narrow strips split at creases"),
+        "{summary}"
+    );
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("r.json")).unwrap()).unwrap();
+    assert_eq!(report["flat_regions"]["split_edges"], 16, "{report}");
+    assert_eq!(report["hull"]["refinements"], 0, "{report}");
+    assert!(report["normals_fallback"].is_null(), "{report}");
+    let out = algesurf(dir.path(), &["check", "plate.obj"]);
+    assert!(out.status.success(), "{}", text(&out));
+    assert!(
+        String::from_utf8_lossy(&out.stdout).contains("all 13 properties hold"),
+        "{}",
+        text(&out)
+    );
 }

@@ -17,7 +17,13 @@
 //!
 //! * every vertex and its position (new vertices are appended, so vertex ids do not change);
 //! * the region's boundary, edge for edge and in the same direction, so the faces around it
-//!   join the new faces exactly as they joined the old ones;
+//!   join the new faces exactly as they joined the old ones — except where a region is a
+//!   *narrow strip* between creases (the side wall of a thin plate: no triangulation of a
+//!   1 × 0.02 rectangle with its four corners alone has an angle above 1.2°): there the
+//!   strip's long edges are split at evenly spaced points on the edge, which lie in both
+//!   regions' planes, and both regions are retriangulated with them on their boundaries
+//!   (`narrow`: [`NARROW_RATIO`], [`CREASE_ANGLE_DEGREES`], [`MAX_PIECES`]). The mesh's own
+//!   boundary and edges between a flat region and a curved neighbour are never split;
 //! * the region's area and orientation, and its plane: new vertices lie on the plane fitted to
 //!   the region, within [`FlatRemeshOptions::tolerance`] of every old vertex.
 //!
@@ -52,8 +58,11 @@
 //! ```
 
 mod grid;
+mod narrow;
 mod remesh;
 mod rim;
+
+pub use narrow::{CREASE_ANGLE_DEGREES, MAX_PIECES, NARROW_RATIO};
 
 use crate::geometry::{triangle_min_angle, triangle_normal};
 use crate::union_find::{find, union};
@@ -323,6 +332,10 @@ pub struct RemeshedRegion {
     pub new_faces: u32,
     /// How many vertices were added inside it.
     pub added_vertices: u32,
+    /// How many vertices were put on its boundary: points of its edges split at creases
+    /// because the region is a narrow strip (see [`NARROW_RATIO`]), its own or a neighbour's.
+    /// Each is counted by both regions it lies between.
+    pub boundary_vertices: u32,
     /// Skinny faces (an angle below [`FlatRemeshOptions::skinny_angle_degrees`]) before and
     /// after.
     pub skinny_before: u32,
@@ -386,8 +399,12 @@ pub struct FlatRemeshReport {
     /// come first, in their input order; each remeshed region's new faces follow, region by
     /// region.
     pub face_map: Vec<u32>,
-    /// How many vertices were added (after the input's, which keep their ids).
+    /// How many vertices were added (after the input's, which keep their ids): the split
+    /// points first, then each remeshed region's inner ones.
     pub added_vertices: u32,
+    /// How many edges between flat regions (or on the mesh's boundary) were split because a
+    /// region along them is a narrow strip ([`NARROW_RATIO`]).
+    pub split_edges: u32,
 }
 
 impl FlatRemeshReport {
@@ -414,6 +431,24 @@ pub struct FlatRemesh {
 /// skinny faces, and regions the new triangulation would not improve, are left as they are; the
 /// report says which and why. Deterministic: the same mesh gives the same output.
 ///
+/// Where skinny faces are left that a region's boundary forces (a narrow strip) and the
+/// strip's long edges lie on creases between flat regions, those edges are split and the
+/// regions on both sides remeshed again with the new points
+/// ([`FlatRemeshReport::split_edges`], [`RemeshedRegion::boundary_vertices`]); if that fails
+/// for one of them, or leaves as many skinny faces, the remeshing without splits is the
+/// result.
+///
+/// ```
+/// use algesurf_mesh::flat::{remesh_flat_regions, FlatRemeshOptions};
+/// use algesurf_mesh::shapes::plate;
+///
+/// // A 2 × 2 × 0.02 plate: its thin sides are strips of 1 × 0.02 rectangles.
+/// let out = remesh_flat_regions(&plate(2, 2.0, 0.02), &FlatRemeshOptions::default()).unwrap();
+/// assert_eq!(out.report.split_edges, 16); // the thin sides' long edges
+/// assert!(out.report.remeshed.iter().all(|r| r.skinny_after == 0));
+/// assert_eq!(out.mesh.euler_characteristic(), 2); // still closed
+/// ```
+///
 /// # Errors
 /// [`MeshError::InvalidOption`] when [`FlatRemeshOptions::validate`] refuses the options;
 /// [`MeshError::TooLarge`] when the new mesh exceeds 32-bit indices.
@@ -422,39 +457,115 @@ pub fn remesh_flat_regions(
     options: &FlatRemeshOptions,
 ) -> Result<FlatRemesh, MeshError> {
     options.validate()?;
+    let tolerance = options.tolerance * coordinate_scale(mesh);
+    let regions = flat_regions(mesh, tolerance);
+    let skinny = options.skinny_angle_degrees.to_radians();
+    let angle = |f: u32| face_min_angle(mesh, f);
+    let skinny_before: Vec<u32> = regions
+        .iter()
+        .map(|r| r.faces.iter().filter(|&&f| angle(f) < skinny).count() as u32)
+        .collect();
+    let base = mesh.vertex_count() as u32;
+    let none = narrow::EdgeSplits::none(base, regions.len());
+    let plain = remesh_with(mesh, &regions, &skinny_before, &none, options)?
+        .expect("without splits every region is optional");
+    let left = plain.report.skipped.len() as u32
+        + plain
+            .report
+            .remeshed
+            .iter()
+            .map(|r| r.skinny_after)
+            .sum::<u32>();
+    if left == 0 {
+        return Ok(plain);
+    }
+    // Skinny faces are left: those a region's boundary forces. Where the region is a narrow
+    // strip between creases, points on its long edges let it be triangulated well
+    // ([`narrow::splits`]).
+    let boundaries: Vec<Vec<[u32; 2]>> = regions
+        .iter()
+        .map(|r| remesh::region_boundary(mesh, r).unwrap_or_default())
+        .collect();
+    let splits = narrow::splits(
+        mesh,
+        &plain.mesh,
+        &plain.report.face_map,
+        &regions,
+        &boundaries,
+        skinny,
+    );
+    if splits.is_empty() {
+        return Ok(plain);
+    }
+    Ok(remesh_with(mesh, &regions, &skinny_before, &splits, options)?.unwrap_or(plain))
+}
+
+/// The smallest angle of face `f` of `mesh`, in radians.
+fn face_min_angle(mesh: &TriMesh, f: u32) -> f64 {
+    let p = mesh.positions();
+    let t = mesh.triangles()[f as usize];
+    triangle_min_angle(p[t[0] as usize], p[t[1] as usize], p[t[2] as usize])
+}
+
+/// [`remesh_flat_regions`] with the boundary edges `splits` splits. The regions those touch
+/// must all be replaced for the mesh to stay conforming: if one of them cannot be, or they
+/// have as many skinny faces after as before, the answer is `None` (the caller remeshes
+/// without splits). Other regions are replaced where that removes skinny faces, as without
+/// splits.
+fn remesh_with(
+    mesh: &TriMesh,
+    regions: &[FlatRegion],
+    skinny_before: &[u32],
+    splits: &narrow::EdgeSplits,
+    options: &FlatRemeshOptions,
+) -> Result<Option<FlatRemesh>, MeshError> {
     let p = mesh.positions();
     let tris = mesh.triangles();
     let skinny = options.skinny_angle_degrees.to_radians();
-    let angle = |f: u32| {
-        let t = tris[f as usize];
-        triangle_min_angle(p[t[0] as usize], p[t[1] as usize], p[t[2] as usize])
+    let angle = |f: u32| face_min_angle(mesh, f);
+    let mut report = FlatRemeshReport {
+        split_edges: splits.edge_count() as u32,
+        ..FlatRemeshReport::default()
     };
-    let tolerance = options.tolerance * coordinate_scale(mesh);
-    let mut report = FlatRemeshReport::default();
     let mut replaced: Vec<(Vec<[u32; 3]>, Vec<u32>)> = Vec::new();
-    let mut new_positions: Vec<DVec3> = Vec::new();
+    let mut new_positions: Vec<DVec3> = splits.positions.clone();
     let mut new_normals: Vec<DVec3> = Vec::new();
-    for region in flat_regions(mesh, tolerance) {
-        let skinny_before = region.faces.iter().filter(|&&f| angle(f) < skinny).count() as u32;
-        if skinny_before == 0 {
+    // Skinny faces of the touched regions, before and after.
+    let (mut touched_before, mut touched_after) = (0u32, 0u32);
+    for (r, region) in regions.iter().enumerate() {
+        let skinny_before = skinny_before[r];
+        let touched = splits.touched[r];
+        if skinny_before == 0 && !touched {
             continue;
         }
         let first_new = mesh.vertex_count() + new_positions.len();
-        let result = remesh::retriangulate(mesh, &region, options.min_angle_degrees, first_new);
-        let done = match result {
+        let result = remesh::region_boundary(mesh, region).and_then(|boundary| {
+            remesh::retriangulate(
+                mesh,
+                region,
+                &boundary,
+                splits,
+                options.min_angle_degrees,
+                first_new,
+            )
+            .map(|done| (done, splits.points_on(&boundary)))
+        });
+        let (done, boundary_vertices) = match result {
             Ok(done) => done,
+            Err(_) if touched => return Ok(None),
             Err(reason) => {
                 report.skipped.push(SkippedRegion {
-                    faces: region.faces,
+                    faces: region.faces.clone(),
                     reason,
                 });
                 continue;
             }
         };
-        // The region's triangles use the input's vertices and its own new ones only.
+        // The region's triangles use the input's vertices, the split points and its own new
+        // ones only.
         let at = |v: u32| match (v as usize).checked_sub(first_new) {
             Some(i) => done.positions[i],
-            None => p[v as usize],
+            None => splits.position(p, v),
         };
         let new_angle = |t: &[u32; 3]| triangle_min_angle(at(t[0]), at(t[1]), at(t[2]));
         let skinny_after = done
@@ -462,9 +573,12 @@ pub fn remesh_flat_regions(
             .iter()
             .filter(|t| new_angle(t) < skinny)
             .count() as u32;
-        if skinny_after >= skinny_before {
+        if touched {
+            touched_before += skinny_before;
+            touched_after += skinny_after;
+        } else if skinny_after >= skinny_before {
             report.skipped.push(SkippedRegion {
-                faces: region.faces,
+                faces: region.faces.clone(),
                 reason: SkipReason::NoImprovement,
             });
             continue;
@@ -474,9 +588,10 @@ pub fn remesh_flat_regions(
         report.remeshed.push(RemeshedRegion {
             min_angle_before: min_of(&mut region.faces.iter().map(|&f| angle(f))),
             min_angle_after: min_of(&mut done.triangles.iter().map(new_angle)),
-            faces: region.faces,
+            faces: region.faces.clone(),
             new_faces: done.triangles.len() as u32,
             added_vertices: done.positions.len() as u32,
+            boundary_vertices,
             skinny_before,
             skinny_after,
         });
@@ -484,12 +599,15 @@ pub fn remesh_flat_regions(
         new_positions.extend(done.positions);
         replaced.push((done.triangles, done.source));
     }
+    if !splits.is_empty() && touched_after >= touched_before {
+        return Ok(None);
+    }
     if report.remeshed.is_empty() {
         report.face_map = (0..tris.len() as u32).collect();
-        return Ok(FlatRemesh {
+        return Ok(Some(FlatRemesh {
             mesh: mesh.clone(),
             report,
-        });
+        }));
     }
     let total = mesh.vertex_count() + new_positions.len();
     if total >= u32::MAX as usize {
@@ -524,9 +642,32 @@ pub fn remesh_flat_regions(
     let positions = p.iter().copied().chain(new_positions).collect();
     let mut out = TriMesh::with_source_faces(positions, triangles, source_faces)?;
     if let Some(n) = mesh.file_normals() {
-        out.set_file_normals(Some(n.iter().copied().chain(new_normals).collect()))?;
+        // A split point's normal: the direction halfway between its edge's ends' (it lies on
+        // a crease, where neither region's own normal is the surface's).
+        let split_normals = split_point_normals(splits, n);
+        out.set_file_normals(Some(
+            n.iter()
+                .copied()
+                .chain(split_normals)
+                .chain(new_normals)
+                .collect(),
+        ))?;
     }
-    Ok(FlatRemesh { mesh: out, report })
+    Ok(Some(FlatRemesh { mesh: out, report }))
+}
+
+/// File normals for the split points of `splits`, in their order: the normalised
+/// interpolation of the normals at the ends of their edge.
+fn split_point_normals(splits: &narrow::EdgeSplits, n: &[DVec3]) -> Vec<DVec3> {
+    let mut out = vec![DVec3::ZERO; splits.positions.len()];
+    for (key, first, pieces) in splits.edges() {
+        let (a, b) = (n[key[0] as usize], n[key[1] as usize]);
+        for i in 1..pieces {
+            let t = f64::from(i) / f64::from(pieces);
+            out[(first - splits.base + i - 1) as usize] = a.lerp(b, t).normalize_or(a);
+        }
+    }
+    out
 }
 
 #[cfg(test)]

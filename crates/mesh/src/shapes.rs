@@ -248,3 +248,83 @@ pub fn puck(n: u32, height: f64, caps: CapTriangulation) -> TriMesh {
     }
     build(pos, tris)
 }
+
+/// A closed box `[0, size]² × [0, thickness]` whose two large sides are grids of `n × n`
+/// squares and whose four thin sides are strips of `n` rectangles, each square and rectangle
+/// split along a diagonal: a CAD export of a plate. With `thickness` far below `size / n` the
+/// thin sides are strips of skinny faces between creases (`crate::flat`, "narrow strips").
+/// Outward oriented; `2(n + 1)²` vertices, `4n² + 8n` faces.
+///
+/// ```
+/// use algesurf_mesh::shapes::plate;
+/// let m = plate(2, 2.0, 0.02);
+/// assert_eq!((m.vertex_count(), m.face_count()), (18, 32));
+/// assert!((m.signed_volume() - 2.0 * 2.0 * 0.02).abs() < 1e-12);
+/// assert_eq!(m.euler_characteristic(), 2);
+/// ```
+pub fn plate(n: u32, size: f64, thickness: f64) -> TriMesh {
+    let n = n.max(1);
+    // Vertex (i, j) of the bottom grid is `j (n + 1) + i`, of the top `(n + 1)² + j (n + 1) + i`.
+    let side = n + 1;
+    let id = |i: u32, j: u32, top: bool| u32::from(top) * side * side + j * side + i;
+    let mut pos = Vec::with_capacity(2 * (side * side) as usize);
+    for z in [0.0, thickness] {
+        for j in 0..=n {
+            for i in 0..=n {
+                let at = |k: u32| size * f64::from(k) / f64::from(n);
+                pos.push(DVec3::new(at(i), at(j), z));
+            }
+        }
+    }
+    let mut tris = Vec::with_capacity((4 * n * n + 8 * n) as usize);
+    // A quad `a b c d`, counter-clockwise seen from outside, split along `a c`.
+    let mut quad = |a: u32, b: u32, c: u32, d: u32| {
+        tris.push([a, b, c]);
+        tris.push([a, c, d]);
+    };
+    for j in 0..n {
+        for i in 0..n {
+            // Bottom, seen from −z; top, seen from +z.
+            quad(
+                id(i, j, false),
+                id(i, j + 1, false),
+                id(i + 1, j + 1, false),
+                id(i + 1, j, false),
+            );
+            quad(
+                id(i, j, true),
+                id(i + 1, j, true),
+                id(i + 1, j + 1, true),
+                id(i, j + 1, true),
+            );
+        }
+    }
+    for k in 0..n {
+        // The four thin sides: y = 0, x = size, y = size, x = 0, each seen from outside.
+        quad(
+            id(k, 0, false),
+            id(k + 1, 0, false),
+            id(k + 1, 0, true),
+            id(k, 0, true),
+        );
+        quad(
+            id(n, k, false),
+            id(n, k + 1, false),
+            id(n, k + 1, true),
+            id(n, k, true),
+        );
+        quad(
+            id(k + 1, n, false),
+            id(k, n, false),
+            id(k, n, true),
+            id(k + 1, n, true),
+        );
+        quad(
+            id(0, k + 1, false),
+            id(0, k, false),
+            id(0, k, true),
+            id(0, k + 1, true),
+        );
+    }
+    build(pos, tris)
+}

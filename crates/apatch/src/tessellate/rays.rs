@@ -17,7 +17,7 @@ use crate::surface::FaceFunction;
 use crate::{ApatchSurface, EdgeCubic, FaceCubic, SplitFace};
 use algesurf_bb::extremes::max_abs;
 use algesurf_bb::roots::shooting_root;
-use algesurf_hull::Side;
+use algesurf_hull::{Convexity, Side};
 use glam::DVec3;
 
 /// Barycentric coordinates of the apex (vertex 3) of a face or sub-face tetrahedron.
@@ -52,14 +52,23 @@ fn root(c: [f64; 4], sign: f64) -> Option<(f64, bool)> {
 /// Evaluates the ray from `q` to `apex` with shooting coefficients `c` (F along the ray) for
 /// the side `sign` (+1: F ≤ 0 at q, looking for F = 0 towards the apex where F > 0).
 /// `grad(t)` is ∇F at the ray's point of parameter `t` (computed from the point's barycentric
-/// coordinates, which the caller knows exactly as a lerp of the ray's ends).
+/// coordinates, which the caller knows exactly as a lerp of the ray's ends). `on_surface`:
+/// `q` lies on a zero convex mesh edge, where F vanishes by the edge's classification
+/// ([`FaceRays::on_surface`]), so the ray starts on the surface whatever `c[0]` says.
 #[inline]
-fn shoot(q: DVec3, apex: DVec3, c: [f64; 4], sign: f64, grad: impl Fn(f64) -> DVec3) -> RayPoint {
+fn shoot(
+    q: DVec3,
+    apex: DVec3,
+    c: [f64; 4],
+    sign: f64,
+    on_surface: bool,
+    grad: impl Fn(f64) -> DVec3,
+) -> RayPoint {
     // |F(q)| within the rounding of its own evaluation (a few ε times the coefficients it is
     // combined from): the ray starts on the surface. Treating it as t = 0 keeps rays from a
     // mesh edge where F vanishes identical from every side.
     let scale = max_abs(&c);
-    if c[0] == 0.0 || c[0].abs() <= 8.0 * f64::EPSILON * scale {
+    if on_surface || c[0] == 0.0 || c[0].abs() <= 8.0 * f64::EPSILON * scale {
         return RayPoint {
             position: q,
             normal: grad(0.0).normalize_or_zero(),
@@ -127,6 +136,9 @@ pub(super) struct FaceRays<'a> {
     /// The face's corners.
     p: [DVec3; 3],
     kind: FaceKind<'a>,
+    /// For each local edge `z` (opposite corner `z`): whether its hull edge is zero convex
+    /// inside the mesh, so that its rays start on the surface (see [`FaceRays::ray`]).
+    on_surface: [bool; 3],
 }
 
 enum FaceKind<'a> {
@@ -168,11 +180,39 @@ impl<'a> FaceRays<'a> {
                 })),
             },
         };
-        FaceRays { p, kind }
+        // Local edge z runs between corners z + 1 and z + 2: the hull face's edge
+        // `(z + 1) mod 3` (its edges are [i j], [j k], [k i]).
+        let hull = surface.hull();
+        let hull_edges = hull.faces()[f].edges;
+        let on_surface = std::array::from_fn(|z| {
+            let e = &hull.edges()[hull_edges[(z + 1) % 3] as usize];
+            e.convexity == Convexity::ZeroConvex && !e.is_boundary()
+        });
+        FaceRays {
+            p,
+            kind,
+            on_surface,
+        }
+    }
+
+    /// Whether the face point `alpha` lies on a zero convex edge inside the mesh.
+    ///
+    /// Why it matters: such an edge has no edge patch, and the two face patches beside it meet
+    /// along the edge itself (F vanishes there: its values and its derivatives along the edge
+    /// vanish at both ends, [`algesurf_hull::classify_edge`]), so the tessellation shares the
+    /// edge's points between them only if both see their rays start there (t = 0). Deciding
+    /// that from `F(q)` alone is not enough: the classification accepts normals a few ulps
+    /// off perpendicular to the edge (Loop normals of a remeshed plate's rim lean 5e-15 along
+    /// it), which leaves `F(q)` at ~20 ε of the ray's coefficients, beyond the rounding test of
+    /// [`shoot`], and the two sides' rays then stop a few ulps apart instead of sharing a
+    /// point: a crack along the edge.
+    fn on_surface(&self, alpha: [f64; 3]) -> bool {
+        (0..3).any(|z| alpha[z] == 0.0 && self.on_surface[z])
     }
 
     /// The ray from the face point with barycentric coordinates `alpha`.
     pub(super) fn ray(&self, alpha: [f64; 3]) -> RayPoint {
+        let on_surface = self.on_surface(alpha);
         let p = &self.p;
         let q = p[0] * alpha[0] + p[1] * alpha[1] + p[2] * alpha[2];
         match &self.kind {
@@ -188,8 +228,10 @@ impl<'a> FaceRays<'a> {
                 let apex = k.cubic.tetrahedron().vertex(3);
                 let a = [alpha[0], alpha[1], alpha[2], 0.0];
                 let c = k.shooting(a);
-                if sign * c[0] <= 0.0 {
-                    shoot(q, apex, c, sign, |t| k.gradient(lerp(a, APEX, t)))
+                if on_surface || sign * c[0] <= 0.0 {
+                    shoot(q, apex, c, sign, on_surface, |t| {
+                        k.gradient(lerp(a, APEX, t))
+                    })
                 } else {
                     // (4.5): F(q) on the wrong side — the patch dips below the face; shoot
                     // backwards along the same line, towards 2q − apex. Along that ray the
@@ -200,7 +242,7 @@ impl<'a> FaceRays<'a> {
                     let poly = k.cubic.backward_polynomial(alpha);
                     let r = c[0] - poly[0];
                     let cb: [f64; 4] = std::array::from_fn(|j| poly[j] + r * (1u32 << j) as f64);
-                    shoot(q, q * 2.0 - apex, cb, -sign, |t| {
+                    shoot(q, q * 2.0 - apex, cb, -sign, false, |t| {
                         k.gradient(lerp(a, back, t))
                     })
                 }
@@ -228,7 +270,7 @@ impl<'a> FaceRays<'a> {
                     (1, -1.0, ray(1))
                 };
                 let tet = &split.sides[s].tets[a];
-                shoot(q, tet.vertex(3), c, sign, |t| {
+                shoot(q, tet.vertex(3), c, sign, on_surface, |t| {
                     let (_, dp) = cubic::value_partials(&coeffs[s][a], lerp(tau, APEX, t));
                     gradient_from_partials(tet, dp, [0.0; 4])
                 })
@@ -318,7 +360,7 @@ impl<'a> EdgeRays<'a> {
         let t = k.cubic.tetrahedron();
         let target = t.vertex(3) * y + t.vertex(0) * (1.0 - y);
         let (a, b) = EdgeCubic::ray_ends(x, y);
-        shoot(q, target, c, sign, |t| k.gradient(lerp(a, b, t)))
+        shoot(q, target, c, sign, false, |t| k.gradient(lerp(a, b, t)))
     }
 }
 

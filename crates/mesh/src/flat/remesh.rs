@@ -3,6 +3,7 @@
 //! against the region before it is used.
 
 use super::grid::{FaceGrid, signed_area2};
+use super::narrow::EdgeSplits;
 use super::{FlatRegion, SkipReason};
 use crate::TriMesh;
 use crate::fasthash::{FastMap, FastSet};
@@ -68,37 +69,60 @@ impl Frame {
     }
 }
 
+/// The region's directed boundary edges, sorted, or [`SkipReason::Overlapping`] when a directed
+/// edge is there twice (two of its faces overlap along it).
+pub(super) fn region_boundary(
+    mesh: &TriMesh,
+    region: &FlatRegion,
+) -> Result<Vec<[u32; 2]>, SkipReason> {
+    let tris = mesh.triangles();
+    directed_boundary(region.faces.iter().map(|&f| tris[f as usize])).ok_or(SkipReason::Overlapping)
+}
+
 /// The region's new triangulation, with new vertices numbered from `first_new`, or why there
-/// is none.
+/// is none. Its boundary is `boundary` ([`region_boundary`]) with the edges `splits` splits
+/// replaced by their chains of split points.
 pub(super) fn retriangulate(
     mesh: &TriMesh,
     region: &FlatRegion,
+    boundary: &[[u32; 2]],
+    splits: &EdgeSplits,
     min_angle_degrees: f64,
     first_new: usize,
 ) -> Result<Retriangulated, SkipReason> {
     let p = mesh.positions();
     let tris = mesh.triangles();
-    // The region's vertices in increasing order, and their local ids.
+    let boundary: Vec<[u32; 2]> = if splits.is_empty() {
+        boundary.to_vec()
+    } else {
+        let mut chained: Vec<[u32; 2]> = boundary
+            .iter()
+            .flat_map(|&[a, b]| {
+                let chain = splits.chain(a, b);
+                chain.windows(2).map(|w| [w[0], w[1]]).collect::<Vec<_>>()
+            })
+            .collect();
+        chained.sort_unstable();
+        chained
+    };
+    // The region's vertices (and the split points on its boundary) in increasing order, and
+    // their local ids.
     let mut vertices: Vec<u32> = region
         .faces
         .iter()
         .flat_map(|&f| tris[f as usize])
+        .chain(boundary.iter().map(|e| e[0]))
         .collect();
     vertices.sort_unstable();
     vertices.dedup();
     let local: FastMap<u32, usize> = vertices.iter().enumerate().map(|(i, &v)| (v, i)).collect();
-    // A directed edge twice: two of its faces overlap along it.
-    let boundary = directed_boundary(region.faces.iter().map(|&f| tris[f as usize]))
-        .ok_or(SkipReason::Overlapping)?;
+    let at = |v: u32| splits.position(p, v);
 
-    let frame = Frame::new(region, vertices.iter().map(|&v| p[v as usize]));
+    let frame = Frame::new(region, vertices.iter().map(|&v| at(v)));
     if !(frame.scale > 0.0 && frame.scale.is_finite()) {
         return Err(SkipReason::Overlapping);
     }
-    let q: Vec<DVec2> = vertices
-        .iter()
-        .map(|&v| frame.to_plane(p[v as usize]))
-        .collect();
+    let q: Vec<DVec2> = vertices.iter().map(|&v| frame.to_plane(at(v))).collect();
     let old = FaceGrid::new(
         region
             .faces

@@ -213,7 +213,8 @@ fn a_hole_in_a_flat_region_stays_a_hole() {
 #[test]
 fn a_strip_narrower_than_its_edges_is_skipped_with_its_reason() {
     // Two triangles of a 2 × 0.02 rectangle: no point fits inside without coming closer to a
-    // long edge than half its length, so the new triangulation is the old one.
+    // long edge than half its length, so the new triangulation is the old one. Its long
+    // edges are the mesh's boundary, which is never split.
     let strip = TriMesh::new(
         vec![
             DVec3::ZERO,
@@ -226,6 +227,7 @@ fn a_strip_narrower_than_its_edges_is_skipped_with_its_reason() {
     .unwrap();
     let out = remesh_flat_regions(&strip, &FlatRemeshOptions::default()).unwrap();
     assert!(!out.report.changed());
+    assert_eq!(out.report.split_edges, 0);
     assert_eq!(
         out.report.skipped,
         vec![SkippedRegion {
@@ -431,4 +433,76 @@ fn options_out_of_range_are_refused() {
             "{e}"
         );
     }
+}
+
+#[test]
+fn a_thin_plate_is_split_at_its_rims_and_stays_a_closed_manifold() {
+    // A 2 × 2 × 0.02 plate: its thin sides are strips of two 1 × 0.02 rectangles (1.1°
+    // faces), between creases of 90°. Their long edges are split into 50 pieces (the strip's
+    // width), the short ones not; the large sides take the new points on their rims.
+    let plate = shapes::plate(2, 2.0, 0.02);
+    let out = remesh_flat_regions(&plate, &FlatRemeshOptions::default()).unwrap();
+    let report = &out.report;
+    assert_eq!(report.split_edges, 16, "{report:?}");
+    assert_eq!(report.remeshed.len(), 6, "every side");
+    assert!(report.skipped.is_empty(), "{report:?}");
+    assert_eq!(skinny_count(&out.mesh), 0);
+    assert!(angles_of(&out.mesh).into_iter().all(|a| a >= 24.9));
+    // Each thin side's long edges carry 49 points each, and each large side's rim has them
+    // all: counted once per region.
+    let on_rims: u32 = report.remeshed.iter().map(|r| r.boundary_vertices).sum();
+    assert_eq!(on_rims, 2 * 16 * 49);
+    // Closed, of the same genus, volume and vertices (kept first, by id and position).
+    let topo = out.mesh.topology();
+    assert!((0..topo.edge_count() as u32).all(|e| topo.edge_face_count(e) == 2));
+    assert_eq!(out.mesh.euler_characteristic(), 2);
+    let (v0, v1) = (plate.signed_volume(), out.mesh.signed_volume());
+    assert!((v1 - v0).abs() <= 1e-12 * v0, "{v0} → {v1}");
+    assert_eq!(&out.mesh.positions()[..18], plate.positions());
+    // No vertex on another's edge (a T-junction would be one): the split points are the
+    // same vertices on both sides of their crease.
+    let p = out.mesh.positions();
+    for e in 0..topo.edge_count() as u32 {
+        let [a, b] = topo.edge(e);
+        let (pa, pb) = (p[a as usize], p[b as usize]);
+        let d = pb - pa;
+        for (v, &x) in p.iter().enumerate() {
+            let t = (x - pa).dot(d) / d.length_squared();
+            let off = (pa + d * t).distance(x);
+            assert!(
+                v as u32 == a || v as u32 == b || t <= 0.0 || t >= 1.0 || off > 1e-9,
+                "vertex {v} on edge {a}–{b}"
+            );
+        }
+    }
+    // A thicker plate (0.5: sides of 1 × 0.5, 26.6°) has no skinny face and stays as it is.
+    let thick = shapes::plate(2, 2.0, 0.5);
+    let out = remesh_flat_regions(&thick, &FlatRemeshOptions::default()).unwrap();
+    assert!(!out.report.changed() && out.report.split_edges == 0);
+}
+
+#[test]
+fn a_narrow_strip_on_a_smooth_surface_is_not_split() {
+    // A strip of 2 × 0.02 between two faces tilted 10° against it: its long edges are not
+    // creases (CREASE_ANGLE_DEGREES), so nothing is split and the strip is kept, with its
+    // reason.
+    let tilt = 10f64.to_radians();
+    let (c, s) = (tilt.cos(), tilt.sin());
+    let mesh = TriMesh::new(
+        vec![
+            DVec3::ZERO,
+            DVec3::new(2.0, 0.0, 0.0),
+            DVec3::new(2.0, 0.02, 0.0),
+            DVec3::new(0.0, 0.02, 0.0),
+            DVec3::new(1.0, -c, s),
+            DVec3::new(1.0, 0.02 + c, s),
+        ],
+        vec![[0, 1, 2], [0, 2, 3], [1, 0, 4], [3, 2, 5]],
+    )
+    .unwrap();
+    let out = remesh_flat_regions(&mesh, &FlatRemeshOptions::default()).unwrap();
+    assert_eq!(out.report.split_edges, 0);
+    assert!(!out.report.changed());
+    assert_eq!(out.report.skipped[0].reason, SkipReason::NoImprovement);
+    assert_eq!(out.mesh.triangles(), mesh.triangles());
 }
