@@ -590,7 +590,8 @@ impl ApatchSurface {
 fn face_ray(rays: &FaceRays, g: &[usize; 3], n: usize) -> RayPoint {
     match grid_point(g, n) {
         GridPoint::Corner(_) => RayPoint::default(),
-        _ => rays.ray(g.map(|k| k as f64 / n as f64)),
+        GridPoint::Edge(_) => rays.ray(g.map(|k| k as f64 / n as f64), rays.on_surface(g, n)),
+        GridPoint::Interior => rays.ray(g.map(|k| k as f64 / n as f64), false),
     }
 }
 
@@ -598,7 +599,11 @@ fn face_ray(rays: &FaceRays, g: &[usize; 3], n: usize) -> RayPoint {
 /// column `j = k mod (m − 1) + 1` of `m − 1` across.
 fn edge_ray(rays: &EdgeRays, k: usize, n: usize, m: usize) -> RayPoint {
     let (i, j) = (k / (m - 1) + 1, k % (m - 1) + 1);
-    rays.ray(i as f64 / n as f64, j as f64 / m as f64)
+    rays.ray(
+        i as f64 / n as f64,
+        j as f64 / m as f64,
+        rays.row_on_surface(i, n),
+    )
 }
 
 /// Where a face grid point lies.

@@ -1185,3 +1185,26 @@ fn a_thin_plate_builds_once_its_narrow_sides_are_split_and_fails_kept_naming_bot
         text(&out)
     );
 }
+
+/// A washer of 32 segments (1 × 0.5 × 0.05) builds through the angle-weighted fallback after
+/// ~1000 refinement splits, and one of its nonconvex edges is crossed by the surface 3 ulps
+/// from the edge's midpoint: the rays from that grid point stopped within 1e-16 of it, each in
+/// its own direction, and two of those vertices came out at the same position
+/// (`duplicate_positions` 1 at the check's resolution 4). Rays from a mesh edge point the
+/// surface passes through, to the rounding of its coordinates, now start there alike from
+/// every patch and share its vertex.
+#[test]
+fn a_refined_washer_has_no_two_vertices_at_one_position() {
+    let dir = TempDir::new("smooth", "washer");
+    let washer = shapes::washer(32, 1.0, 0.5, 0.05);
+    algesurf_io::write(
+        dir.path().join("washer.obj"),
+        &PolygonMesh::from_triangles(washer.positions().to_vec(), washer.triangles()),
+        &algesurf_io::WriteOptions::default(),
+    )
+    .expect("write washer.obj");
+    let out = algesurf(dir.path(), &["check", "washer.obj"]);
+    assert!(out.status.success(), "{}", text(&out));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("all 13 properties hold"), "{stdout}");
+}

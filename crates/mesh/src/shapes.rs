@@ -328,3 +328,47 @@ pub fn plate(n: u32, size: f64, thickness: f64) -> TriMesh {
     }
     build(pos, tris)
 }
+
+/// A closed washer: the ring between radii `inner < outer` about the z-axis, from `z = 0` to
+/// `z = thickness`, with `n ≥ 3` segments; its flat sides are strips of `2n` triangles
+/// (outer rim to inner rim, no vertex between) and its two cylindrical walls one row of `n`
+/// quads each, split along a diagonal. Outward oriented; `4n` vertices, `8n` faces, a torus
+/// (Euler characteristic 0).
+///
+/// ```
+/// use algesurf_mesh::shapes::washer;
+/// let m = washer(32, 1.0, 0.5, 0.05);
+/// assert_eq!((m.vertex_count(), m.face_count()), (128, 256));
+/// assert_eq!(m.euler_characteristic(), 0);
+/// assert!(m.signed_volume() > 0.0);
+/// ```
+pub fn washer(n: u32, outer: f64, inner: f64, thickness: f64) -> TriMesh {
+    let n = n.max(3);
+    // Vertex k of ring `r` (0 outer, 1 inner) at height `h` (0 bottom, 1 top).
+    let id = |h: u32, r: u32, k: u32| h * 2 * n + r * n + k % n;
+    let mut pos = Vec::with_capacity(4 * n as usize);
+    for z in [0.0, thickness] {
+        for radius in [outer, inner] {
+            for k in 0..n {
+                let a = 2.0 * PI * k as f64 / n as f64;
+                pos.push(DVec3::new(radius * a.cos(), radius * a.sin(), z));
+            }
+        }
+    }
+    let mut tris = Vec::with_capacity(8 * n as usize);
+    for k in 0..n {
+        let (o0, o1, i0, i1) = (id(1, 0, k), id(1, 0, k + 1), id(1, 1, k), id(1, 1, k + 1));
+        tris.push([o0, o1, i1]);
+        tris.push([o0, i1, i0]);
+        let (o0, o1, i0, i1) = (id(0, 0, k), id(0, 0, k + 1), id(0, 1, k), id(0, 1, k + 1));
+        tris.push([o0, i1, o1]);
+        tris.push([o0, i0, i1]);
+        let (a, b, c, d) = (id(0, 0, k), id(0, 0, k + 1), id(1, 0, k + 1), id(1, 0, k));
+        tris.push([a, b, c]);
+        tris.push([a, c, d]);
+        let (a, b, c, d) = (id(0, 1, k), id(0, 1, k + 1), id(1, 1, k + 1), id(1, 1, k));
+        tris.push([a, c, b]);
+        tris.push([a, d, c]);
+    }
+    build(pos, tris)
+}

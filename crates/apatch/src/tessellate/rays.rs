@@ -17,7 +17,7 @@ use crate::surface::FaceFunction;
 use crate::{ApatchSurface, EdgeCubic, FaceCubic, SplitFace};
 use algesurf_bb::extremes::max_abs;
 use algesurf_bb::roots::shooting_root;
-use algesurf_hull::{Convexity, Side};
+use algesurf_hull::{Convexity, Side, SimplicialHull};
 use glam::DVec3;
 
 /// Barycentric coordinates of the apex (vertex 3) of a face or sub-face tetrahedron.
@@ -53,8 +53,8 @@ fn root(c: [f64; 4], sign: f64) -> Option<(f64, bool)> {
 /// the side `sign` (+1: F ≤ 0 at q, looking for F = 0 towards the apex where F > 0).
 /// `grad(t)` is ∇F at the ray's point of parameter `t` (computed from the point's barycentric
 /// coordinates, which the caller knows exactly as a lerp of the ray's ends). `on_surface`:
-/// `q` lies on a zero convex mesh edge, where F vanishes by the edge's classification
-/// ([`FaceRays::on_surface`]), so the ray starts on the surface whatever `c[0]` says.
+/// `q` is a point of a mesh edge where F vanishes ([`edge_point_on_surface`]), so the ray
+/// starts on the surface whatever `c[0]` says.
 #[inline]
 fn shoot(
     q: DVec3,
@@ -98,6 +98,52 @@ fn shoot(
     }
 }
 
+/// Whether the surface passes through the point `q` of hull edge `e` whose weight of the
+/// edge's second vertex is `w / n` (`0 < w < n`), up to the rounding of `q`'s coordinates;
+/// decided from the edge's data alone, so that every patch whose rays start at `q` (the two
+/// faces' and the edge patch's) decides alike, and they share `q`'s vertex.
+///
+/// Along the edge `p_0 → p_1` F is the cubic with Bernstein coefficients
+/// `0, b_1, b_2, 0`, `b_1 = (p_1 − p_0)ᵀ∇F(p_0) / 3` and `b_2 = (p_0 − p_1)ᵀ∇F(p_1) / 3`
+/// (the values and the edge's directional derivatives at its ends, which every cubic on the
+/// edge shares: [`algesurf_bb::continuity::vertex_and_neighbours`]), so
+/// `F(q) = 3 s (1 − s) ((1 − s) b_1 + s b_2)` at `s = w / n`. The surface passes through `q`:
+///
+/// * on a zero convex interior edge, everywhere: its normals are perpendicular to it up to
+///   [`algesurf_hull::HullOptions::zero_tolerance`], which accepts normals a few ulps off
+///   (Loop normals of a remeshed plate's rims lean 5e-15 along the edge) and leaves `F(q)` at
+///   ~20 ε of a ray's coefficients, beyond [`shoot`]'s own rounding test: the two sides' rays
+///   then stopped a few ulps apart instead of sharing a point, and the tessellation cracked;
+/// * where `|F(q)| / |∇F|` (the distance from `q` to the surface, to first order; `|∇F|`
+///   interpolated from the ends' gradients) is at most 16 ulps of `q`'s largest coordinate or
+///   of the edge's length, whichever is larger: the scale at which positions round. A
+///   nonconvex edge whose surface crosses it next to a grid point (a washer after
+///   refinement, by symmetry: 3 ulps from the edge's midpoint) gave rays from `q` that each
+///   stopped within 1e-16 of it in their own directions, five vertices where one belongs and
+///   two of them at the same position.
+///
+/// Boundary edges are not shared and are never decided here.
+fn edge_point_on_surface(hull: &SimplicialHull, e: usize, w: usize, n: usize) -> bool {
+    let edge = &hull.edges()[e];
+    if edge.is_boundary() {
+        return false;
+    }
+    if edge.convexity == Convexity::ZeroConvex {
+        return true;
+    }
+    let [v0, v1] = edge.vertices.map(|v| v as usize);
+    let (p, g) = (hull.mesh().positions(), hull.normals());
+    let d = p[v1] - p[v0];
+    let b1 = d.dot(g[v0]) / 3.0;
+    let b2 = -d.dot(g[v1]) / 3.0;
+    let s = w as f64 / n as f64;
+    let value = 3.0 * s * (1.0 - s) * ((1.0 - s) * b1 + s * b2);
+    let gradient = (1.0 - s) * g[v0].length() + s * g[v1].length();
+    let q = p[v0] + d * s;
+    let scale = q.abs().max_element().max(d.length());
+    value.abs() <= 16.0 * f64::EPSILON * scale * gradient
+}
+
 /// A face cubic with its polynomial part as a fixed array.
 struct FaceKernel<'a> {
     cubic: &'a FaceCubic,
@@ -136,9 +182,10 @@ pub(super) struct FaceRays<'a> {
     /// The face's corners.
     p: [DVec3; 3],
     kind: FaceKind<'a>,
-    /// For each local edge `z` (opposite corner `z`): whether its hull edge is zero convex
-    /// inside the mesh, so that its rays start on the surface (see [`FaceRays::ray`]).
-    on_surface: [bool; 3],
+    /// For each local edge `z` (opposite corner `z`): its hull edge and the local corner that
+    /// is that edge's second vertex, for [`edge_point_on_surface`].
+    edges: [(usize, usize); 3],
+    hull: &'a SimplicialHull,
 }
 
 enum FaceKind<'a> {
@@ -184,35 +231,34 @@ impl<'a> FaceRays<'a> {
         // `(z + 1) mod 3` (its edges are [i j], [j k], [k i]).
         let hull = surface.hull();
         let hull_edges = hull.faces()[f].edges;
-        let on_surface = std::array::from_fn(|z| {
-            let e = &hull.edges()[hull_edges[(z + 1) % 3] as usize];
-            e.convexity == Convexity::ZeroConvex && !e.is_boundary()
+        let edges = std::array::from_fn(|z| {
+            let e = hull_edges[(z + 1) % 3] as usize;
+            let second = hull.edges()[e].vertices[1];
+            let corner = (0..3)
+                .find(|&c| tri[c] == second)
+                .expect("the edge's vertex");
+            (e, corner)
         });
         FaceRays {
             p,
             kind,
-            on_surface,
+            edges,
+            hull,
         }
     }
 
-    /// Whether the face point `alpha` lies on a zero convex edge inside the mesh.
-    ///
-    /// Why it matters: such an edge has no edge patch, and the two face patches beside it meet
-    /// along the edge itself (F vanishes there: its values and its derivatives along the edge
-    /// vanish at both ends, [`algesurf_hull::classify_edge`]), so the tessellation shares the
-    /// edge's points between them only if both see their rays start there (t = 0). Deciding
-    /// that from `F(q)` alone is not enough: the classification accepts normals a few ulps
-    /// off perpendicular to the edge (Loop normals of a remeshed plate's rim lean 5e-15 along
-    /// it), which leaves `F(q)` at ~20 ε of the ray's coefficients, beyond the rounding test of
-    /// [`shoot`], and the two sides' rays then stop a few ulps apart instead of sharing a
-    /// point: a crack along the edge.
-    fn on_surface(&self, alpha: [f64; 3]) -> bool {
-        (0..3).any(|z| alpha[z] == 0.0 && self.on_surface[z])
+    /// Whether the face grid point `g` (level `n`) is a point of a face edge where F vanishes
+    /// ([`edge_point_on_surface`]); `false` inside the face.
+    pub(super) fn on_surface(&self, g: &[usize; 3], n: usize) -> bool {
+        (0..3).any(|z| {
+            let (e, corner) = self.edges[z];
+            g[z] == 0 && edge_point_on_surface(self.hull, e, g[corner], n)
+        })
     }
 
-    /// The ray from the face point with barycentric coordinates `alpha`.
-    pub(super) fn ray(&self, alpha: [f64; 3]) -> RayPoint {
-        let on_surface = self.on_surface(alpha);
+    /// The ray from the face point with barycentric coordinates `alpha`; `on_surface`: the
+    /// point is one of a mesh edge where F vanishes ([`FaceRays::on_surface`]).
+    pub(super) fn ray(&self, alpha: [f64; 3], on_surface: bool) -> RayPoint {
         let p = &self.p;
         let q = p[0] * alpha[0] + p[1] * alpha[1] + p[2] * alpha[2];
         match &self.kind {
@@ -318,6 +364,9 @@ impl<'a> EdgeKernel<'a> {
 pub(super) struct EdgeRays<'a> {
     pi: DVec3,
     pj: DVec3,
+    /// The hull edge and its hull, for [`edge_point_on_surface`].
+    e: usize,
+    hull: &'a SimplicialHull,
     pos: Option<EdgeKernel<'a>>,
     neg: Option<EdgeKernel<'a>>,
 }
@@ -334,13 +383,22 @@ impl<'a> EdgeRays<'a> {
         Some(EdgeRays {
             pi: m.positions()[vi as usize],
             pj: m.positions()[vj as usize],
+            e,
+            hull: surface.hull(),
             pos: pos.as_ref().map(EdgeKernel::new),
             neg: neg.as_ref().map(EdgeKernel::new),
         })
     }
 
-    /// The ray from `q = x p_i + (1 − x) p_j` towards `y u_k + (1 − y) u_l`.
-    pub(super) fn ray(&self, x: f64, y: f64) -> RayPoint {
+    /// Whether the start of row `i` (`x = i / n`, `s = n − i` steps from `p_i`) is a point of
+    /// the edge where F vanishes ([`edge_point_on_surface`]).
+    pub(super) fn row_on_surface(&self, i: usize, n: usize) -> bool {
+        edge_point_on_surface(self.hull, self.e, n - i, n)
+    }
+
+    /// The ray from `q = x p_i + (1 − x) p_j` towards `y u_k + (1 − y) u_l`; `on_surface`: `q`
+    /// is a point of the edge where F vanishes ([`EdgeRays::row_on_surface`]).
+    pub(super) fn ray(&self, x: f64, y: f64, on_surface: bool) -> RayPoint {
         let q = self.pi * x + self.pj * (1.0 - x);
         // (4.7): positive edge tetrahedron where F(q) ≤ 0, else negative; decided by the b_0
         // of the ray itself.
@@ -360,7 +418,9 @@ impl<'a> EdgeRays<'a> {
         let t = k.cubic.tetrahedron();
         let target = t.vertex(3) * y + t.vertex(0) * (1.0 - y);
         let (a, b) = EdgeCubic::ray_ends(x, y);
-        shoot(q, target, c, sign, false, |t| k.gradient(lerp(a, b, t)))
+        shoot(q, target, c, sign, on_surface, |t| {
+            k.gradient(lerp(a, b, t))
+        })
     }
 }
 
