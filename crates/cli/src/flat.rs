@@ -32,6 +32,10 @@ impl FlatRegionsArg {
 pub(crate) struct FlatOutcome {
     /// The remesher's report (`None` with `keep` and for the built-in mesh).
     pub report: Option<FlatRemeshReport>,
+    /// Set when this remeshing is the second, [`split_every_strip`]'s, after the hull built on
+    /// the first did not separate: that build's error and its seconds (part of construction's
+    /// time).
+    pub second_try: Option<(String, f64)>,
 }
 
 impl FlatOutcome {
@@ -54,8 +58,13 @@ impl FlatOutcome {
             };
             let split = if r.split_edges > 0 {
                 format!(
-                    ", {} of narrow strips split at creases",
-                    plural(r.split_edges as usize, "edge")
+                    ", {} of narrow strips split{}",
+                    plural(r.split_edges as usize, "edge"),
+                    if self.second_try.is_some() {
+                        ""
+                    } else {
+                        " at creases"
+                    }
                 )
             } else {
                 String::new()
@@ -85,7 +94,23 @@ impl FlatOutcome {
                 first.reason
             ));
         }
+        if let Some((_, seconds)) = &self.second_try {
+            parts.push(format!(
+                "a second remeshing, splitting narrow strips between any two flat regions: the \
+                 hull on the first (narrow strips split at creases only) did not separate \
+                 ({seconds:.2} s; the error is in the report, `flat_regions.second_try`)"
+            ));
+        }
         (!parts.is_empty()).then(|| format!("flat regions: {}", parts.join("; ")))
+    }
+
+    /// This outcome as the second remeshing's, after the build on the first failed with
+    /// `error` in `seconds`.
+    pub(crate) fn after_failure(self, error: String, seconds: f64) -> FlatOutcome {
+        FlatOutcome {
+            second_try: Some((error, seconds)),
+            ..self
+        }
     }
 
     /// The report's `flat_regions` object.
@@ -97,6 +122,11 @@ impl FlatOutcome {
             "mode": arg.name(),
             "added_vertices": r.added_vertices,
             "split_edges": r.split_edges,
+            "second_try": self.second_try.as_ref().map(|(error, seconds)| json!({
+                "crease_angle_degrees": 0.0,
+                "first_error": error,
+                "seconds": seconds,
+            })),
             "remeshed": r.remeshed.iter().map(|x| json!({
                 "first_face": x.faces[0],
                 "faces": x.faces.len(),
@@ -142,8 +172,51 @@ pub(crate) fn apply(
                 out.mesh,
                 FlatOutcome {
                     report: Some(out.report),
+                    second_try: None,
                 },
             ))
         }
     }
+}
+
+/// Whether a second remeshing ([`split_every_strip`]) may let the surface build after the
+/// first build failed with `error`: the hull did not separate or had a degenerate
+/// tetrahedron, the errors that the shape of the faces near a thin feature causes.
+pub(crate) fn strips_may_help(error: &algesurf_apatch::ApatchError) -> bool {
+    use algesurf_hull::HullError;
+    matches!(
+        error,
+        algesurf_apatch::ApatchError::Hull(
+            HullError::UnresolvedIntersection { .. } | HullError::DegenerateTetrahedron { .. }
+        )
+    )
+}
+
+/// The second remeshing of `repaired` (the mesh after repair, before the first remeshing),
+/// with narrow strips split between any two flat regions (crease angle 0) and not only at
+/// creases of more than [`algesurf_mesh::flat::CREASE_ANGLE_DEGREES`]; `None` when it splits
+/// no more edges than the `first` did (then it is the same mesh) or fails.
+///
+/// Why a second try and not the default: a thin-walled tube's wall quads (0.13 × 2 on a tube
+/// of wall 0.05, 48 segments) meet each other at 7.5°, not at a crease, and their hull does
+/// not separate with any normals until their long edges are split; but on meshes that build,
+/// such as the Utah teapot's 500 flat quads of two skinny triangles or a puck's side wall,
+/// splitting everywhere would only multiply the faces (a puck of 1024 segments: 14 708 → 113 012).
+pub(crate) fn split_every_strip(
+    repaired: &TriMesh,
+    first: &FlatOutcome,
+) -> Option<(TriMesh, FlatOutcome)> {
+    let options = FlatRemeshOptions {
+        crease_angle_degrees: 0.0,
+        ..FlatRemeshOptions::default()
+    };
+    let out = remesh_flat_regions(repaired, &options).ok()?;
+    let before = first.report.as_ref().map_or(0, |r| r.split_edges);
+    (out.report.split_edges > before).then_some((
+        out.mesh,
+        FlatOutcome {
+            report: Some(out.report),
+            second_try: None,
+        },
+    ))
 }

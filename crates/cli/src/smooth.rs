@@ -470,7 +470,7 @@ pub(crate) fn build(
     let mut t = Timings::default();
     let mut exponent = 0;
     // Read and repair (the built-in mesh needs neither).
-    let (tri, repair_text, repair_json, flat) = match input {
+    let (tri, repair_text, repair_json, flat, repaired) = match input {
         Some(path) => {
             let (mesh, dt, usage) = measured("reading", progress, |_| crate::read_mesh(path));
             (t.read, t.usage.read) = (dt, usage);
@@ -523,6 +523,9 @@ pub(crate) fn build(
                     non_orientable(&source, r.non_orientable_components, &repaired.mesh).into(),
                 );
             }
+            // Kept for a second remeshing, should the hull on the first not separate
+            // (`crate::flat::split_every_strip`): a copy of the positions and triangles.
+            let repaired = (args.flat_regions == FlatRegionsArg::Remesh).then(|| tri.clone());
             // Part of the repair stage (its time and usage): the remesher's fast path, on a
             // mesh without flat regions of skinny faces, is a pass over the edges.
             let (flat, dt, usage) = measured("remeshing flat regions", progress, |_| {
@@ -532,13 +535,14 @@ pub(crate) fn build(
             t.usage.repair = t.usage.repair.plus(usage);
             let (tri, flat) = flat
                 .map_err(|e| format!("{}: remeshing flat regions failed: {e}", path.display()))?;
-            (tri, text, rj, flat)
+            (tri, text, rj, flat, repaired)
         }
         None => (
             shapes::icosphere(0),
             "no repairs needed".to_string(),
             json!({ "changed": false, "summary": "no repairs needed" }),
             FlatOutcome::default(),
+            None,
         ),
     };
     // A mesh far from the origin for its size is built about an origin near it, moved to
@@ -565,7 +569,7 @@ pub(crate) fn build(
         };
         format!("{source}: cannot compute normals: {e}{hint}")
     })?;
-    let file_normals = if args.normals == SmoothNormals::File {
+    let mut file_normals = if args.normals == SmoothNormals::File {
         algesurf_mesh::file_normal_changes(&tri).unwrap_or_default()
     } else {
         Default::default()
@@ -594,13 +598,48 @@ pub(crate) fn build(
     // separate the hull (`normals_fallback.rs`): `tri` is the mesh the surface was built on
     // from here.
     let auto = args.normals == SmoothNormals::Auto;
-    let ((surface, tri, numbering, attempts), dt, usage) =
+    let ((mut surface, mut tri, mut numbering, mut attempts), dt, usage) =
         measured("building the hull and the surface", progress, |p| {
             crate::normals_fallback::build_surface_or_fall_back(tri, &normals, auto, &options, p)
         });
     (t.construction, t.usage.construction) = (dt, usage);
     // Before the error is read: a `Cancelled` one is the signal's doing.
     crate::interrupt::check()?;
+    let mut flat = flat;
+    // Where the hull did not separate (or had a degenerate tetrahedron) with every normals
+    // choice, a second remeshing that splits narrow strips between any two flat regions,
+    // not only at creases, and a second build on it (`crate::flat::split_every_strip`).
+    if let (Err(error), Some(repaired)) = (&surface, &repaired)
+        && crate::flat::strips_may_help(error)
+        && let Some((mut second, outcome)) = crate::flat::split_every_strip(repaired, &flat)
+    {
+        if origin != DVec3::ZERO {
+            for p in second.positions_mut() {
+                *p -= origin;
+            }
+        }
+        if let Ok(normals) = vertex_normals(&second, args.normals.method()) {
+            let first_error = error.to_string();
+            let ((again, second, second_numbering, second_attempts), dt, usage) =
+                measured("building the hull and the surface again", progress, |p| {
+                    crate::normals_fallback::build_surface_or_fall_back(
+                        second, &normals, auto, &options, p,
+                    )
+                });
+            crate::interrupt::check()?;
+            let first_seconds = t.construction;
+            t.construction += dt;
+            t.usage.construction = t.usage.construction.plus(usage);
+            if again.is_ok() {
+                if args.normals == SmoothNormals::File {
+                    file_normals = algesurf_mesh::file_normal_changes(&second).unwrap_or_default();
+                }
+                (surface, tri, numbering, attempts) =
+                    (again, second, second_numbering, second_attempts);
+                flat = outcome.after_failure(first_error, first_seconds);
+            }
+        }
+    }
     let surface = surface.map_err(|e| match e {
         ApatchError::Hull(e) => {
             let hint = match e {

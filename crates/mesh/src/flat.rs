@@ -114,6 +114,11 @@ pub struct FlatRemeshOptions {
     /// (which is kept) allows it. Must lie in `(0, 30]`. Default
     /// [`DEFAULT_REMESH_MIN_ANGLE_DEGREES`].
     pub min_angle_degrees: f64,
+    /// Narrow strips get their long edges split where they meet another flat region at more
+    /// than this many degrees (see [`NARROW_RATIO`]); 0 splits them between any two flat
+    /// regions (a thin-walled tube's wall quads, whose neighbours meet them at a few
+    /// degrees), 180 never. Must lie in `[0, 180]`. Default [`CREASE_ANGLE_DEGREES`].
+    pub crease_angle_degrees: f64,
 }
 
 impl Default for FlatRemeshOptions {
@@ -122,13 +127,15 @@ impl Default for FlatRemeshOptions {
             tolerance: DEFAULT_FLAT_TOLERANCE,
             skinny_angle_degrees: DEFAULT_SKINNY_ANGLE_DEGREES,
             min_angle_degrees: DEFAULT_REMESH_MIN_ANGLE_DEGREES,
+            crease_angle_degrees: CREASE_ANGLE_DEGREES,
         }
     }
 }
 
 impl FlatRemeshOptions {
     /// Checks the ranges: `tolerance` finite and `≥ 0`, `skinny_angle_degrees` in `[0, 60]`,
-    /// `min_angle_degrees` in `(0, 30]` (beyond 30° Delaunay refinement need not terminate).
+    /// `min_angle_degrees` in `(0, 30]` (beyond 30° Delaunay refinement need not terminate),
+    /// `crease_angle_degrees` in `[0, 180]`.
     ///
     /// # Errors
     /// [`MeshError::InvalidOption`] naming the option.
@@ -149,6 +156,12 @@ impl FlatRemeshOptions {
         if !(a > 0.0 && a <= 30.0) {
             return Err(MeshError::InvalidOption(format!(
                 "min_angle_degrees = {a} must lie in (0, 30]"
+            )));
+        }
+        let c = self.crease_angle_degrees;
+        if !(0.0..=180.0).contains(&c) {
+            return Err(MeshError::InvalidOption(format!(
+                "crease_angle_degrees = {c} must lie in [0, 180]"
             )));
         }
         Ok(())
@@ -493,6 +506,7 @@ pub fn remesh_flat_regions(
         &regions,
         &boundaries,
         skinny,
+        options.crease_angle_degrees,
     );
     if splits.is_empty() {
         return Ok(plain);

@@ -32,7 +32,8 @@ pub const NARROW_RATIO: f64 = 2.0;
 /// ([`super::DEFAULT_SKINNY_ANGLE_DEGREES`]).
 pub const MAX_PIECES: u32 = 256;
 
-/// Two flat regions meet at a crease when their normals differ by more than this many degrees.
+/// Default [`super::FlatRemeshOptions::crease_angle_degrees`]: two flat regions meet at a
+/// crease when their normals differ by more than this many degrees.
 ///
 /// Why 30°: only there does a narrow strip defeat the hull. Where a strip of thin faces lies
 /// on a smooth surface (the Utah teapot's 500 flat quads of two skinny triangles, each quad
@@ -160,7 +161,8 @@ fn corner_angles(
 /// each of its edges on the region's boundary that is more than [`NARROW_RATIO`] times longer
 /// than the face's height over it asks to be split into `ceil(length / height)` pieces (at most
 /// [`MAX_PIECES`]). An edge is split, into the most pieces asked for, when it lies between two
-/// flat regions (two faces) whose normals differ by more than [`CREASE_ANGLE_DEGREES`]; the
+/// flat regions (two faces) whose normals differ by more than `crease` degrees
+/// ([`CREASE_ANGLE_DEGREES`] by default; at 0 every edge between two flat regions); the
 /// mesh's own boundary is never split (an open mesh keeps its boundary, edge for edge). Points are numbered in the order of the edges' sorted
 /// vertex ids, so the result depends on the mesh alone.
 pub(super) fn splits(
@@ -170,6 +172,7 @@ pub(super) fn splits(
     regions: &[FlatRegion],
     boundaries: &[Vec<[u32; 2]>],
     skinny: f64,
+    crease: f64,
 ) -> EdgeSplits {
     let p = mesh.positions();
     let base = mesh.vertex_count() as u32;
@@ -241,7 +244,12 @@ pub(super) fn splits(
             }
         }
     }
-    let crease = CREASE_ANGLE_DEGREES.to_radians().cos();
+    // At 0° the normals' cosine is at most 1: every pair of distinct regions qualifies.
+    let crease = if crease > 0.0 {
+        crease.to_radians().cos()
+    } else {
+        f64::INFINITY
+    };
     let mut keys: Vec<([u32; 2], u32)> = wanted
         .into_iter()
         .filter(|(key, _)| {

@@ -426,6 +426,20 @@ fn options_out_of_range_are_refused() {
             },
             "min_angle_degrees",
         ),
+        (
+            FlatRemeshOptions {
+                crease_angle_degrees: f64::NAN,
+                ..FlatRemeshOptions::default()
+            },
+            "crease_angle_degrees",
+        ),
+        (
+            FlatRemeshOptions {
+                crease_angle_degrees: 181.0,
+                ..FlatRemeshOptions::default()
+            },
+            "crease_angle_degrees",
+        ),
     ] {
         let e = remesh_flat_regions(&fan, &options).unwrap_err();
         assert!(
@@ -483,9 +497,9 @@ fn a_thin_plate_is_split_at_its_rims_and_stays_a_closed_manifold() {
 
 #[test]
 fn a_narrow_strip_on_a_smooth_surface_is_not_split() {
-    // A strip of 2 × 0.02 between two faces tilted 10° against it: its long edges are not
-    // creases (CREASE_ANGLE_DEGREES), so nothing is split and the strip is kept, with its
-    // reason.
+    // A strip of 2 × 0.02 between two flat quads (two faces each) tilted 10° against it: its
+    // long edges are not creases (CREASE_ANGLE_DEGREES), so nothing is split and the strip
+    // is kept, with its reason.
     let tilt = 10f64.to_radians();
     let (c, s) = (tilt.cos(), tilt.sin());
     let mesh = TriMesh::new(
@@ -494,15 +508,59 @@ fn a_narrow_strip_on_a_smooth_surface_is_not_split() {
             DVec3::new(2.0, 0.0, 0.0),
             DVec3::new(2.0, 0.02, 0.0),
             DVec3::new(0.0, 0.02, 0.0),
-            DVec3::new(1.0, -c, s),
-            DVec3::new(1.0, 0.02 + c, s),
+            DVec3::new(2.0, -c, s),
+            DVec3::new(0.0, -c, s),
+            DVec3::new(0.0, 0.02 + c, s),
+            DVec3::new(2.0, 0.02 + c, s),
         ],
-        vec![[0, 1, 2], [0, 2, 3], [1, 0, 4], [3, 2, 5]],
+        vec![
+            [0, 1, 2],
+            [0, 2, 3],
+            [1, 0, 5],
+            [1, 5, 4],
+            [3, 2, 7],
+            [3, 7, 6],
+        ],
     )
     .unwrap();
+    assert_eq!(
+        flat_regions(&mesh, 1e-9).len(),
+        3,
+        "the strip and both quads"
+    );
     let out = remesh_flat_regions(&mesh, &FlatRemeshOptions::default()).unwrap();
     assert_eq!(out.report.split_edges, 0);
     assert!(!out.report.changed());
     assert_eq!(out.report.skipped[0].reason, SkipReason::NoImprovement);
     assert_eq!(out.mesh.triangles(), mesh.triangles());
+}
+
+#[test]
+fn a_thin_walled_tube_is_split_along_its_walls_only_when_every_edge_may_be() {
+    // A tube of radii 1 and 0.95, 2 long, 48 segments (`shapes::washer`): its walls are rows
+    // of 0.13 × 2 quads (3.7° faces), each a flat region next to the others at 7.5°, and its
+    // ends are rings of well-shaped faces. At the default crease angle nothing qualifies (the
+    // rims' edges, the creases, are the quads' short ones); at 0 the quads' long edges are
+    // split into pieces no longer than the quads are wide, and the walls come out without
+    // skinny faces.
+    let tube = shapes::washer(48, 1.0, 0.95, 2.0);
+    let out = remesh_flat_regions(&tube, &FlatRemeshOptions::default()).unwrap();
+    assert_eq!(out.report.split_edges, 0);
+    assert!(!out.report.changed());
+    let options = FlatRemeshOptions {
+        crease_angle_degrees: 0.0,
+        ..FlatRemeshOptions::default()
+    };
+    let out = remesh_flat_regions(&tube, &options).unwrap();
+    assert_eq!(
+        out.report.split_edges,
+        2 * 48,
+        "every wall edge between two quads"
+    );
+    assert_eq!(skinny_count(&out.mesh), 0);
+    let topo = out.mesh.topology();
+    assert!((0..topo.edge_count() as u32).all(|e| topo.edge_face_count(e) == 2));
+    assert_eq!(out.mesh.euler_characteristic(), 0, "a torus");
+    let (v0, v1) = (tube.signed_volume(), out.mesh.signed_volume());
+    assert!((v1 - v0).abs() <= 1e-12 * v0, "{v0} → {v1}");
 }
