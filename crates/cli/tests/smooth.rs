@@ -5,7 +5,7 @@ mod common;
 
 use std::collections::HashMap;
 
-use common::{TempDir, algesurf, text};
+use common::{TempDir, algesurf, text, write_tri_mesh};
 
 use algesurf_io::PATCH_ID;
 use algesurf_mesh::{PolygonMesh, PropertyValues, shapes};
@@ -1134,12 +1134,7 @@ fn auto_normals_fall_back_to_angle_weighted_ones_where_the_hull_cannot_separate(
 fn a_thin_plate_builds_once_its_narrow_sides_are_split_and_fails_kept_naming_both_normals() {
     let dir = TempDir::new("smooth", "plate");
     let plate = shapes::plate(2, 2.0, 0.02);
-    algesurf_io::write(
-        dir.path().join("plate.obj"),
-        &PolygonMesh::from_triangles(plate.positions().to_vec(), plate.triangles()),
-        &algesurf_io::WriteOptions::default(),
-    )
-    .expect("write plate.obj");
+    write_tri_mesh(&dir, "plate.obj", &plate);
     let out = algesurf(
         dir.path(),
         &[
@@ -1197,12 +1192,7 @@ fn a_thin_plate_builds_once_its_narrow_sides_are_split_and_fails_kept_naming_bot
 fn a_refined_washer_has_no_two_vertices_at_one_position() {
     let dir = TempDir::new("smooth", "washer");
     let washer = shapes::washer(32, 1.0, 0.5, 0.05);
-    algesurf_io::write(
-        dir.path().join("washer.obj"),
-        &PolygonMesh::from_triangles(washer.positions().to_vec(), washer.triangles()),
-        &algesurf_io::WriteOptions::default(),
-    )
-    .expect("write washer.obj");
+    write_tri_mesh(&dir, "washer.obj", &washer);
     let out = algesurf(dir.path(), &["check", "washer.obj"]);
     assert!(out.status.success(), "{}", text(&out));
     let stdout = String::from_utf8_lossy(&out.stdout);
@@ -1217,12 +1207,7 @@ fn a_refined_washer_has_no_two_vertices_at_one_position() {
 fn a_thin_walled_tube_builds_on_a_second_remeshing() {
     let dir = TempDir::new("smooth", "tube");
     let tube = shapes::washer(48, 1.0, 0.95, 2.0);
-    algesurf_io::write(
-        dir.path().join("tube.obj"),
-        &PolygonMesh::from_triangles(tube.positions().to_vec(), tube.triangles()),
-        &algesurf_io::WriteOptions::default(),
-    )
-    .expect("write tube.obj");
+    write_tri_mesh(&dir, "tube.obj", &tube);
     let out = algesurf(
         dir.path(),
         &[

@@ -101,3 +101,15 @@ pub fn obj_bytes(mesh: &algesurf_mesh::PolygonMesh) -> Vec<u8> {
     )
     .unwrap()
 }
+
+/// Writes the triangle mesh `mesh` to `dir/name`, in the format its extension names.
+pub fn write_tri_mesh(dir: &TempDir, name: &str, mesh: &algesurf_mesh::TriMesh) {
+    let polygons =
+        algesurf_mesh::PolygonMesh::from_triangles(mesh.positions().to_vec(), mesh.triangles());
+    algesurf_io::write(
+        dir.path().join(name),
+        &polygons,
+        &algesurf_io::WriteOptions::default(),
+    )
+    .unwrap_or_else(|e| panic!("write {name}: {e}"));
+}
