@@ -554,7 +554,11 @@ fn face_patches_meet_without_cracks_along_zero_convex_edges_whose_normals_lean_b
     use algesurf_mesh::flat::{FlatRemeshOptions, remesh_flat_regions};
     use algesurf_mesh::shapes::plate;
     use algesurf_mesh::{NormalMethod, vertex_normals};
-    let mesh = remesh_flat_regions(&plate(2, 2.0, 0.02), &FlatRemeshOptions::default())
+    let split = FlatRemeshOptions {
+        split_narrow_strips: Some(0.0),
+        ..FlatRemeshOptions::default()
+    };
+    let mesh = remesh_flat_regions(&plate(2, 2.0, 0.02), &split)
         .unwrap()
         .mesh;
     let normals = vertex_normals(&mesh, NormalMethod::LoopButterfly).unwrap();

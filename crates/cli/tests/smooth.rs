@@ -896,8 +896,7 @@ fn an_output_in_a_folder_that_takes_no_files_fails_before_any_work() {
 }
 
 /// Normals moved into their faces' cone before the hull are reported: a 1 × 1 × 0.01 box's
-/// Loop normals stand far off its thin sides' faces at all eight corners. (Kept as it is:
-/// remeshed, the thin sides' rims are split and no corner's normal needs moving.)
+/// Loop normals stand far off its thin sides' faces at all eight corners.
 #[test]
 fn normals_adjusted_into_their_faces_cone_are_reported() {
     let dir = TempDir::new("smooth", "adjusted");
@@ -920,8 +919,6 @@ fn normals_adjusted_into_their_faces_cone_are_reported() {
             "out.ply",
             "--resolution",
             "2",
-            "--flat-regions",
-            "keep",
             "--report",
             "r.json",
         ],
@@ -1127,11 +1124,12 @@ fn auto_normals_fall_back_to_angle_weighted_ones_where_the_hull_cannot_separate(
 
 /// A 2 × 2 × 0.02 plate whose large sides are 2 × 2 grids (the thin sides one strip each of
 /// 1.1° faces): kept as it is, its tetrahedra overlap across the plate with the auto normals
-/// and with angle-weighted ones, and the error says that both were tried. Remeshed (the
-/// default), its thin sides' long edges are split at the creases and every side is
-/// retriangulated, and it builds without refinement and passes every check.
+/// and with angle-weighted ones, and the error says that both were tried. By default the
+/// build on the first remeshing fails so too, and the second remeshing splits the thin
+/// sides' long edges and retriangulates every side: it builds without refinement and passes
+/// every check.
 #[test]
-fn a_thin_plate_builds_once_its_narrow_sides_are_split_and_fails_kept_naming_both_normals() {
+fn a_thin_plate_builds_on_a_second_remeshing_and_fails_kept_naming_both_normals() {
     let dir = TempDir::new("smooth", "plate");
     let plate = shapes::plate(2, 2.0, 0.02);
     write_tri_mesh(&dir, "plate.obj", &plate);
@@ -1164,14 +1162,22 @@ fn a_thin_plate_builds_once_its_narrow_sides_are_split_and_fails_kept_naming_bot
     assert!(out.status.success(), "{}", text(&out));
     let summary = String::from_utf8_lossy(&out.stdout);
     assert!(
-        summary.contains("16 edges of narrow strips split at creases"),
+        summary.contains("16 edges of narrow strips split;"),
         "{summary}"
     );
+    assert!(summary.contains("a second remeshing"), "{summary}");
     let report: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.path().join("r.json")).unwrap()).unwrap();
     assert_eq!(report["flat_regions"]["split_edges"], 16, "{report}");
     assert_eq!(report["hull"]["refinements"], 0, "{report}");
     assert!(report["normals_fallback"].is_null(), "{report}");
+    assert!(
+        report["flat_regions"]["second_try"]["first_error"]
+            .as_str()
+            .unwrap()
+            .contains("still intersect"),
+        "{report}"
+    );
     let out = algesurf(dir.path(), &["check", "plate.obj"]);
     assert!(out.status.success(), "{}", text(&out));
     assert!(
@@ -1200,9 +1206,9 @@ fn a_refined_washer_has_no_two_vertices_at_one_position() {
 }
 
 /// A thin-walled tube (radii 1 and 0.95, 2 long, 48 segments: wall quads of 0.13 × 2 that
-/// meet each other at 7.5°) does not separate with any normals on the first remeshing, which
-/// splits narrow strips at creases only; the second, which splits them between any two flat
-/// regions, builds, passes the check, and the summary and the report say so.
+/// meet each other at 7.5°) does not separate with any normals on the first remeshing; the
+/// second, which splits narrow strips between any two flat regions, builds, passes the
+/// check, and the summary and the report say so.
 #[test]
 fn a_thin_walled_tube_builds_on_a_second_remeshing() {
     let dir = TempDir::new("smooth", "tube");

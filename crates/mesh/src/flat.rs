@@ -17,13 +17,14 @@
 //!
 //! * every vertex and its position (new vertices are appended, so vertex ids do not change);
 //! * the region's boundary, edge for edge and in the same direction, so the faces around it
-//!   join the new faces exactly as they joined the old ones — except where a region is a
-//!   *narrow strip* between creases (the side wall of a thin plate: no triangulation of a
-//!   1 × 0.02 rectangle with its four corners alone has an angle above 1.2°): there the
-//!   strip's long edges are split at evenly spaced points on the edge, which lie in both
-//!   regions' planes, and both regions are retriangulated with them on their boundaries
-//!   (`narrow`: [`NARROW_RATIO`], [`CREASE_ANGLE_DEGREES`], [`MAX_PIECES`]). The mesh's own
-//!   boundary and edges between a flat region and a curved neighbour are never split;
+//!   join the new faces exactly as they joined the old ones — unless asked to split *narrow
+//!   strips* ([`FlatRemeshOptions::split_narrow_strips`]; the side wall of a thin plate: no
+//!   triangulation of a 1 × 0.02 rectangle with its four corners alone has an angle above
+//!   1.2°): then a strip's long edges between it and another flat region are split at evenly
+//!   spaced points on the edge, which lie in both regions' planes, and both regions are
+//!   retriangulated with them on their boundaries (`narrow`: [`NARROW_RATIO`],
+//!   [`MAX_PIECES`]). The mesh's own boundary and edges between a flat region and a curved
+//!   neighbour are never split;
 //! * the region's area and orientation, and its plane: new vertices lie on the plane fitted to
 //!   the region, within [`FlatRemeshOptions::tolerance`] of every old vertex.
 //!
@@ -62,7 +63,7 @@ mod narrow;
 mod remesh;
 mod rim;
 
-pub use narrow::{CREASE_ANGLE_DEGREES, MAX_PIECES, NARROW_RATIO};
+pub use narrow::{MAX_PIECES, NARROW_RATIO};
 
 use crate::geometry::{triangle_min_angle, triangle_normal};
 use crate::union_find::{find, union};
@@ -114,11 +115,13 @@ pub struct FlatRemeshOptions {
     /// (which is kept) allows it. Must lie in `(0, 30]`. Default
     /// [`DEFAULT_REMESH_MIN_ANGLE_DEGREES`].
     pub min_angle_degrees: f64,
-    /// Narrow strips get their long edges split where they meet another flat region at more
-    /// than this many degrees (see [`NARROW_RATIO`]); 0 splits them between any two flat
-    /// regions (a thin-walled tube's wall quads, whose neighbours meet them at a few
-    /// degrees), 180 never. Must lie in `[0, 180]`. Default [`CREASE_ANGLE_DEGREES`].
-    pub crease_angle_degrees: f64,
+    /// Whether narrow strips get their long edges split (see [`NARROW_RATIO`]): `None`, the
+    /// default, keeps every region's boundary; `Some(a)` splits a strip's long edge where it
+    /// meets another flat region whose normal differs by more than `a` degrees (`Some(90.0)`:
+    /// at right-angled creases and sharper; `Some(0.0)`: between any two flat regions, as a
+    /// thin-walled tube's wall quads need, which meet each other at a few degrees). `a` must
+    /// lie in `[0, 180]`.
+    pub split_narrow_strips: Option<f64>,
 }
 
 impl Default for FlatRemeshOptions {
@@ -127,7 +130,7 @@ impl Default for FlatRemeshOptions {
             tolerance: DEFAULT_FLAT_TOLERANCE,
             skinny_angle_degrees: DEFAULT_SKINNY_ANGLE_DEGREES,
             min_angle_degrees: DEFAULT_REMESH_MIN_ANGLE_DEGREES,
-            crease_angle_degrees: CREASE_ANGLE_DEGREES,
+            split_narrow_strips: None,
         }
     }
 }
@@ -135,7 +138,7 @@ impl Default for FlatRemeshOptions {
 impl FlatRemeshOptions {
     /// Checks the ranges: `tolerance` finite and `≥ 0`, `skinny_angle_degrees` in `[0, 60]`,
     /// `min_angle_degrees` in `(0, 30]` (beyond 30° Delaunay refinement need not terminate),
-    /// `crease_angle_degrees` in `[0, 180]`.
+    /// the angle of `split_narrow_strips` in `[0, 180]`.
     ///
     /// # Errors
     /// [`MeshError::InvalidOption`] naming the option.
@@ -158,10 +161,11 @@ impl FlatRemeshOptions {
                 "min_angle_degrees = {a} must lie in (0, 30]"
             )));
         }
-        let c = self.crease_angle_degrees;
-        if !(0.0..=180.0).contains(&c) {
+        if let Some(c) = self.split_narrow_strips
+            && !(0.0..=180.0).contains(&c)
+        {
             return Err(MeshError::InvalidOption(format!(
-                "crease_angle_degrees = {c} must lie in [0, 180]"
+                "split_narrow_strips = {c}° must lie in [0, 180]"
             )));
         }
         Ok(())
@@ -444,19 +448,23 @@ pub struct FlatRemesh {
 /// skinny faces, and regions the new triangulation would not improve, are left as they are; the
 /// report says which and why. Deterministic: the same mesh gives the same output.
 ///
-/// Where skinny faces are left that a region's boundary forces (a narrow strip) and the
-/// strip's long edges lie on creases between flat regions, those edges are split and the
-/// regions on both sides remeshed again with the new points
-/// ([`FlatRemeshReport::split_edges`], [`RemeshedRegion::boundary_vertices`]); if that fails
-/// for one of them, or leaves as many skinny faces, the remeshing without splits is the
-/// result.
+/// With [`FlatRemeshOptions::split_narrow_strips`], where skinny faces are left that a
+/// region's boundary forces (a narrow strip) and the strip's long edges lie between it and
+/// another flat region, those edges are split and the regions on both sides remeshed again
+/// with the new points ([`FlatRemeshReport::split_edges`],
+/// [`RemeshedRegion::boundary_vertices`]); if that fails for one of them, or leaves as many
+/// skinny faces, the remeshing without splits is the result.
 ///
 /// ```
 /// use algesurf_mesh::flat::{remesh_flat_regions, FlatRemeshOptions};
 /// use algesurf_mesh::shapes::plate;
 ///
 /// // A 2 × 2 × 0.02 plate: its thin sides are strips of 1 × 0.02 rectangles.
-/// let out = remesh_flat_regions(&plate(2, 2.0, 0.02), &FlatRemeshOptions::default()).unwrap();
+/// let options = FlatRemeshOptions {
+///     split_narrow_strips: Some(0.0),
+///     ..FlatRemeshOptions::default()
+/// };
+/// let out = remesh_flat_regions(&plate(2, 2.0, 0.02), &options).unwrap();
 /// assert_eq!(out.report.split_edges, 16); // the thin sides' long edges
 /// assert!(out.report.remeshed.iter().all(|r| r.skinny_after == 0));
 /// assert_eq!(out.mesh.euler_characteristic(), 2); // still closed
@@ -489,6 +497,9 @@ pub fn remesh_flat_regions(
             .iter()
             .map(|r| r.skinny_after)
             .sum::<u32>();
+    let Some(crease) = options.split_narrow_strips else {
+        return Ok(plain);
+    };
     if left == 0 {
         return Ok(plain);
     }
@@ -506,7 +517,7 @@ pub fn remesh_flat_regions(
         &regions,
         &boundaries,
         skinny,
-        options.crease_angle_degrees,
+        crease,
     );
     if splits.is_empty() {
         return Ok(plain);

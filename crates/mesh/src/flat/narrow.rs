@@ -4,12 +4,13 @@
 //! Why: [`super::remesh_flat_regions`] keeps a region's boundary, so a strip narrower than its
 //! boundary edges are long (the side wall of a thin plate: 1 × 0.02, two triangles of 1.1°)
 //! has no better triangulation, and the simplicial hull's refinement fails there: a
-//! 2 × 2 × 0.02 plate does not build with any normals. Its long edges lie on creases between
-//! two flat regions (the wall and the plate's large side), so points can be put on them
-//! without changing the surface: each new point lies on the straight edge, in both regions'
-//! planes, and both regions are retriangulated with it on their boundaries. A plate whose
-//! walls are cut into squares builds without refinement (`docs/ARCHITECTURE.md`, "Thin
-//! plates").
+//! 2 × 2 × 0.02 plate does not build with any normals. Its long edges lie between two flat
+//! regions (the wall and the plate's large side), so points can be put on them without
+//! changing the surface: each new point lies on the straight edge, in both regions' planes,
+//! and both regions are retriangulated with it on their boundaries. A plate whose walls are
+//! cut into squares builds without refinement (`docs/ARCHITECTURE.md`, "Thin plates").
+//! Off by default ([`super::FlatRemeshOptions::split_narrow_strips`]): on meshes that build
+//! as they are (a coin's rim, a box of one quad a side) it only multiplies the faces.
 
 use super::FlatRegion;
 use crate::TriMesh;
@@ -31,18 +32,6 @@ pub const NARROW_RATIO: f64 = 2.0;
 /// widths long, whose faces have angles of 14° or more, still above the 10° skinny limit
 /// ([`super::DEFAULT_SKINNY_ANGLE_DEGREES`]).
 pub const MAX_PIECES: u32 = 256;
-
-/// Default [`super::FlatRemeshOptions::crease_angle_degrees`]: two flat regions meet at a
-/// crease when their normals differ by more than this many degrees.
-///
-/// Why 30°: only there does a narrow strip defeat the hull. Where a strip of thin faces lies
-/// on a smooth surface (the Utah teapot's 500 flat quads of two skinny triangles, each quad
-/// its own flat region next to other such quads) the neighbouring regions' normals differ by a
-/// few degrees, the vertex normals lean little off the faces, and the hull builds on the faces
-/// as they are; splitting there would only change a mesh that works. At a crease the vertex
-/// normals lean far off the strip (45° at a plate's rim), its faces' tetrahedra are as tall
-/// as the strip is long, and those of the plate's two sides overlap across it.
-pub const CREASE_ANGLE_DEGREES: f64 = 30.0;
 
 /// The points put on split edges, numbered after the mesh's vertices.
 #[derive(Clone, Debug, Default)]
@@ -161,8 +150,8 @@ fn corner_angles(
 /// each of its edges on the region's boundary that is more than [`NARROW_RATIO`] times longer
 /// than the face's height over it asks to be split into `ceil(length / height)` pieces (at most
 /// [`MAX_PIECES`]). An edge is split, into the most pieces asked for, when it lies between two
-/// flat regions (two faces) whose normals differ by more than `crease` degrees
-/// ([`CREASE_ANGLE_DEGREES`] by default; at 0 every edge between two flat regions); the
+/// flat regions (two faces) whose normals differ by more than `crease` degrees (at 0 every
+/// edge between two flat regions: [`super::FlatRemeshOptions::split_narrow_strips`]); the
 /// mesh's own boundary is never split (an open mesh keeps its boundary, edge for edge). Points are numbered in the order of the edges' sorted
 /// vertex ids, so the result depends on the mesh alone.
 pub(super) fn splits(

@@ -4,6 +4,14 @@ use crate::shapes::{self, CapTriangulation};
 use crate::test_rng::Lcg;
 use std::f64::consts::TAU;
 
+/// Narrow strips split between any two flat regions (the command's second remeshing).
+const SPLIT_EVERYWHERE: FlatRemeshOptions = FlatRemeshOptions {
+    tolerance: DEFAULT_FLAT_TOLERANCE,
+    skinny_angle_degrees: DEFAULT_SKINNY_ANGLE_DEGREES,
+    min_angle_degrees: DEFAULT_REMESH_MIN_ANGLE_DEGREES,
+    split_narrow_strips: Some(0.0),
+};
+
 /// The faces' smallest angles, in degrees.
 fn angles_of(mesh: &TriMesh) -> Vec<f64> {
     let p = mesh.positions();
@@ -428,17 +436,17 @@ fn options_out_of_range_are_refused() {
         ),
         (
             FlatRemeshOptions {
-                crease_angle_degrees: f64::NAN,
+                split_narrow_strips: Some(f64::NAN),
                 ..FlatRemeshOptions::default()
             },
-            "crease_angle_degrees",
+            "split_narrow_strips",
         ),
         (
             FlatRemeshOptions {
-                crease_angle_degrees: 181.0,
+                split_narrow_strips: Some(181.0),
                 ..FlatRemeshOptions::default()
             },
-            "crease_angle_degrees",
+            "split_narrow_strips",
         ),
     ] {
         let e = remesh_flat_regions(&fan, &options).unwrap_err();
@@ -455,7 +463,11 @@ fn a_thin_plate_is_split_at_its_rims_and_stays_a_closed_manifold() {
     // faces), between creases of 90°. Their long edges are split into 50 pieces (the strip's
     // width), the short ones not; the large sides take the new points on their rims.
     let plate = shapes::plate(2, 2.0, 0.02);
-    let out = remesh_flat_regions(&plate, &FlatRemeshOptions::default()).unwrap();
+    // Kept by default: the strips are skipped, as no triangulation of their corners helps.
+    let kept = remesh_flat_regions(&plate, &FlatRemeshOptions::default()).unwrap();
+    assert_eq!(kept.report.split_edges, 0);
+    assert_eq!(kept.report.skipped.len(), 4, "{:?}", kept.report);
+    let out = remesh_flat_regions(&plate, &SPLIT_EVERYWHERE).unwrap();
     let report = &out.report;
     assert_eq!(report.split_edges, 16, "{report:?}");
     assert_eq!(report.remeshed.len(), 6, "every side");
@@ -491,15 +503,15 @@ fn a_thin_plate_is_split_at_its_rims_and_stays_a_closed_manifold() {
     }
     // A thicker plate (0.5: sides of 1 × 0.5, 26.6°) has no skinny face and stays as it is.
     let thick = shapes::plate(2, 2.0, 0.5);
-    let out = remesh_flat_regions(&thick, &FlatRemeshOptions::default()).unwrap();
+    let out = remesh_flat_regions(&thick, &SPLIT_EVERYWHERE).unwrap();
     assert!(!out.report.changed() && out.report.split_edges == 0);
 }
 
 #[test]
 fn a_narrow_strip_on_a_smooth_surface_is_not_split() {
-    // A strip of 2 × 0.02 between two flat quads (two faces each) tilted 10° against it: its
-    // long edges are not creases (CREASE_ANGLE_DEGREES), so nothing is split and the strip
-    // is kept, with its reason.
+    // A strip of 2 × 0.02 between two flat quads (two faces each) tilted 10° against it:
+    // asked to split at creases of 30° and more, nothing qualifies, and the strip is kept,
+    // with its reason.
     let tilt = 10f64.to_radians();
     let (c, s) = (tilt.cos(), tilt.sin());
     let mesh = TriMesh::new(
@@ -539,19 +551,19 @@ fn a_narrow_strip_on_a_smooth_surface_is_not_split() {
 fn a_thin_walled_tube_is_split_along_its_walls_only_when_every_edge_may_be() {
     // A tube of radii 1 and 0.95, 2 long, 48 segments (`shapes::washer`): its walls are rows
     // of 0.13 × 2 quads (3.7° faces), each a flat region next to the others at 7.5°, and its
-    // ends are rings of well-shaped faces. At the default crease angle nothing qualifies (the
-    // rims' edges, the creases, are the quads' short ones); at 0 the quads' long edges are
-    // split into pieces no longer than the quads are wide, and the walls come out without
-    // skinny faces.
+    // ends are rings of well-shaped faces. Split at creases of 30° and more nothing
+    // qualifies (the rims' edges, the creases, are the quads' short ones); everywhere, the
+    // quads' long edges are split into pieces no longer than the quads are wide, and the
+    // walls come out without skinny faces.
     let tube = shapes::washer(48, 1.0, 0.95, 2.0);
-    let out = remesh_flat_regions(&tube, &FlatRemeshOptions::default()).unwrap();
-    assert_eq!(out.report.split_edges, 0);
-    assert!(!out.report.changed());
-    let options = FlatRemeshOptions {
-        crease_angle_degrees: 0.0,
+    let creases = FlatRemeshOptions {
+        split_narrow_strips: Some(30.0),
         ..FlatRemeshOptions::default()
     };
-    let out = remesh_flat_regions(&tube, &options).unwrap();
+    let out = remesh_flat_regions(&tube, &creases).unwrap();
+    assert_eq!(out.report.split_edges, 0);
+    assert!(!out.report.changed());
+    let out = remesh_flat_regions(&tube, &SPLIT_EVERYWHERE).unwrap();
     assert_eq!(
         out.report.split_edges,
         2 * 48,
