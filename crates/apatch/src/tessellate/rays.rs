@@ -115,8 +115,8 @@ fn shoot(
 ///   ~20 ε of a ray's coefficients, beyond [`shoot`]'s own rounding test: the two sides' rays
 ///   then stopped a few ulps apart instead of sharing a point, and the tessellation cracked;
 /// * where `|F(q)| / |∇F|` (the distance from `q` to the surface, to first order; `|∇F|`
-///   interpolated from the ends' gradients) is at most 16 ulps of `q`'s largest coordinate or
-///   of the edge's length, whichever is larger: the scale at which positions round. A
+///   bounded by the ends' gradients) is at most 16 ulps of `q`'s largest coordinate or of the
+///   edge's length, whichever is larger: the scale at which positions round. A
 ///   nonconvex edge whose surface crosses it next to a grid point (a washer after
 ///   refinement, by symmetry: 3 ulps from the edge's midpoint) gave rays from `q` that each
 ///   stopped within 1e-16 of it in their own directions, five vertices where one belongs and
@@ -138,9 +138,12 @@ fn edge_point_on_surface(hull: &SimplicialHull, e: usize, w: usize, n: usize) ->
     let b2 = -d.dot(g[v1]) / 3.0;
     let s = w as f64 / n as f64;
     let value = 3.0 * s * (1.0 - s) * ((1.0 - s) * b1 + s * b2);
-    let gradient = (1.0 - s) * g[v0].length() + s * g[v1].length();
+    // Without square roots (this runs for every ray from a mesh edge, ~630 k on the bunny at
+    // 3 × 2): the largest components stand in for the lengths, `|x|∞ ≤ |x| < 2 |x|∞`, so the
+    // bound is within a factor of two of the one stated above, either way.
+    let gradient = 2.0 * g[v0].abs().max(g[v1].abs()).max_element();
     let q = p[v0] + d * s;
-    let scale = q.abs().max_element().max(d.length());
+    let scale = q.abs().max(d.abs()).max_element();
     value.abs() <= 16.0 * f64::EPSILON * scale * gradient
 }
 
