@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{TempDir, algesurf, text};
+use common::{TempDir, algesurf, read_json, text};
 
 use algesurf_mesh::{PolygonMesh, shapes};
 
@@ -53,9 +53,7 @@ fn json_report_is_written_and_parseable() {
     let dir = TempDir::new("check", "json");
     let out = algesurf(dir.path(), &["check", "--json", "report.json"]);
     assert_eq!(out.status.code(), Some(0), "{}", text(&out));
-    let json: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.path().join("report.json")).unwrap())
-            .unwrap();
+    let json: serde_json::Value = read_json(&dir, "report.json");
     assert_eq!(json["passed"], true);
     assert_eq!(json["options"]["normals"], "auto");
     let rows = json["rows"].as_array().unwrap();

@@ -6,7 +6,7 @@ mod common;
 
 use std::collections::HashMap;
 
-use common::{TempDir, algesurf, text};
+use common::{TempDir, algesurf, read_json, text};
 
 use algesurf_io::WriteOptions;
 use algesurf_mesh::shapes::{CapTriangulation, puck};
@@ -33,10 +33,6 @@ fn closed_manifold(mesh: &PolygonMesh) -> bool {
         .all(|(&(a, b), &n)| n == 1 && directed.get(&(b, a)) == Some(&1))
 }
 
-fn report(dir: &TempDir, name: &str) -> serde_json::Value {
-    serde_json::from_str(&std::fs::read_to_string(dir.path().join(name)).unwrap()).unwrap()
-}
-
 /// A puck of height 0.3 whose caps are fans of 48 segments (needles of 3.75°, as CAD
 /// exporters write a cylinder) failed with every `--normals` choice: its hull's overlaps grew
 /// from 16 to 4 275 pairs in six rounds. With its caps remeshed it builds without a single
@@ -57,7 +53,7 @@ fn a_puck_with_fan_caps_smooths_once_its_caps_are_remeshed() {
         stdout.contains("flat regions: remeshed 2 regions with 92 skinny faces"),
         "{stdout}"
     );
-    let r = report(&dir, "r.json");
+    let r = read_json(&dir, "r.json");
     assert_eq!(r["flat_regions"]["mode"], "remesh");
     let remeshed = r["flat_regions"]["remeshed"].as_array().unwrap();
     assert_eq!(remeshed.len(), 2);
@@ -128,7 +124,7 @@ fn polygon_caps_and_float32_caps_are_remeshed_too() {
             &["smooth", name, "-o", "out.ply", "--report", "r.json"],
         );
         assert!(out.status.success(), "{name}: {}", text(&out));
-        let r = report(&dir, "r.json");
+        let r = read_json(&dir, "r.json");
         let remeshed = r["flat_regions"]["remeshed"].as_array().unwrap();
         assert_eq!(remeshed.len(), 2, "{name}: {r}");
         assert!(remeshed.iter().all(|x| x["faces"] == faces), "{name}: {r}");
@@ -193,7 +189,7 @@ fn a_degenerate_tetrahedron_of_the_auto_normals_falls_back_to_angle_weighted_one
         stdout.contains("with the auto normals a hull tetrahedron came out degenerate"),
         "{stdout}"
     );
-    let r = report(&dir, "r.json");
+    let r = read_json(&dir, "r.json");
     let fallback = &r["normals_fallback"];
     assert_eq!(fallback["normals"], "angle", "{fallback}");
     assert_eq!(fallback["cause"], "degenerate_tetrahedron", "{fallback}");

@@ -5,7 +5,7 @@ mod common;
 
 use std::collections::HashMap;
 
-use common::{TempDir, algesurf, text, write_tri_mesh};
+use common::{TempDir, algesurf, read_json, text, write_tri_mesh};
 
 use algesurf_io::PATCH_ID;
 use algesurf_mesh::{PolygonMesh, PropertyValues, shapes};
@@ -207,9 +207,7 @@ fn icosphere_with_sphere_normals_gives_the_sphere() {
     assert!(mesh.vertex_properties.iter().any(|p| p.name == PATCH_ID));
 
     // The report.
-    let json: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.path().join("report.json")).unwrap())
-            .expect("report is JSON");
+    let json: serde_json::Value = read_json(&dir, "report.json");
     assert_eq!(json["input_mesh"]["faces"], 80);
     assert_eq!(json["patches"]["face"], 80);
     assert_eq!(json["patches"]["edge"], 120);
@@ -413,9 +411,7 @@ fn a_failed_build_on_the_spatial_numbering_is_reported() {
         "{}",
         text(&out)
     );
-    let json: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.path().join("report.json")).unwrap())
-            .expect("report is JSON");
+    let json: serde_json::Value = read_json(&dir, "report.json");
     let numbering = &json["numbering"];
     assert_eq!(numbering["spatial"], false, "{numbering}");
     let failure = &numbering["spatial_failure"];
@@ -639,8 +635,7 @@ fn smooth_with_report(
     let out = algesurf(dir.path(), &args);
     assert!(out.status.success(), "{name}: {}", text(&out));
     let mesh = algesurf_io::read(dir.path().join(&ply)).unwrap();
-    let report =
-        serde_json::from_str(&std::fs::read_to_string(dir.path().join(&json)).unwrap()).unwrap();
+    let report = read_json(dir, &json);
     (mesh, report)
 }
 
@@ -868,8 +863,7 @@ fn file_normals_that_are_replaced_or_reversed_are_reported() {
         stdout.contains("file normals: 1 pointing against their faces, reversed (vertices 7)"),
         "{stdout}"
     );
-    let report: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.path().join("r.json")).unwrap()).unwrap();
+    let report: serde_json::Value = read_json(&dir, "r.json");
     assert_eq!(report["file_normals"]["replaced"], serde_json::json!([3]));
     assert_eq!(report["file_normals"]["reversed"], serde_json::json!([7]));
 }
@@ -931,8 +925,7 @@ fn normals_adjusted_into_their_faces_cone_are_reported() {
         ),
         "{stdout}"
     );
-    let report: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.path().join("r.json")).unwrap()).unwrap();
+    let report: serde_json::Value = read_json(&dir, "r.json");
     assert_eq!(
         report["adjusted_normals"],
         serde_json::json!([0, 1, 2, 3, 4, 5, 6, 7])
@@ -1056,8 +1049,7 @@ fn auto_normals_fall_back_to_angle_weighted_ones_where_the_hull_cannot_separate(
         stdout.contains("built with angle-weighted normals, which separate"),
         "{stdout}"
     );
-    let report: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.path().join("r.json")).unwrap()).unwrap();
+    let report: serde_json::Value = read_json(&dir, "r.json");
     let fallback = &report["normals_fallback"];
     assert_eq!(fallback["normals"], "angle", "{report}");
     assert!(
@@ -1111,8 +1103,7 @@ fn auto_normals_fall_back_to_angle_weighted_ones_where_the_hull_cannot_separate(
         ],
     );
     assert!(out.status.success(), "{}", text(&out));
-    let report: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.path().join("r.json")).unwrap()).unwrap();
+    let report: serde_json::Value = read_json(&dir, "r.json");
     assert!(report["normals_fallback"].is_null(), "{report}");
     assert_eq!(report["hull"]["refinements"], 0, "{report}");
     assert_eq!(
@@ -1166,8 +1157,7 @@ fn a_thin_plate_builds_on_a_second_remeshing_and_fails_kept_naming_both_normals(
         "{summary}"
     );
     assert!(summary.contains("a second remeshing"), "{summary}");
-    let report: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.path().join("r.json")).unwrap()).unwrap();
+    let report: serde_json::Value = read_json(&dir, "r.json");
     assert_eq!(report["flat_regions"]["split_edges"], 16, "{report}");
     assert_eq!(report["hull"]["refinements"], 0, "{report}");
     assert!(report["normals_fallback"].is_null(), "{report}");
@@ -1234,8 +1224,7 @@ fn a_thin_walled_tube_builds_on_a_second_remeshing() {
         summary.contains("96 edges of narrow strips split;"),
         "{summary}"
     );
-    let report: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.path().join("r.json")).unwrap()).unwrap();
+    let report: serde_json::Value = read_json(&dir, "r.json");
     let second = &report["flat_regions"]["second_try"];
     assert!(
         second["first_error"]

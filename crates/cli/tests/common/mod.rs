@@ -113,3 +113,10 @@ pub fn write_tri_mesh(dir: &TempDir, name: &str, mesh: &algesurf_mesh::TriMesh) 
     )
     .unwrap_or_else(|e| panic!("write {name}: {e}"));
 }
+
+/// The JSON file `dir/name` (a command's `--report` or `--json` output), parsed.
+pub fn read_json(dir: &TempDir, name: &str) -> serde_json::Value {
+    let text = std::fs::read_to_string(dir.path().join(name))
+        .unwrap_or_else(|e| panic!("read {name}: {e}"));
+    serde_json::from_str(&text).unwrap_or_else(|e| panic!("{name} is not JSON: {e}"))
+}
