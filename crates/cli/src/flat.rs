@@ -200,17 +200,15 @@ pub(crate) fn strips_may_help(error: &algesurf_apatch::ApatchError) -> bool {
 /// 12 → 14 244, a puck of 1024 segments 14 708 → 113 012. The first try keeps those as they
 /// were; the price is the failed first build on the meshes that need the second (0.2–0.9 s
 /// on the plates, 3.5 s on the tube).
-pub(crate) fn split_every_strip(
-    repaired: &TriMesh,
-    first: &FlatOutcome,
-) -> Option<(TriMesh, FlatOutcome)> {
+pub(crate) fn split_every_strip(repaired: &TriMesh) -> Option<(TriMesh, FlatOutcome)> {
     let options = FlatRemeshOptions {
         split_narrow_strips: Some(0.0),
         ..FlatRemeshOptions::default()
     };
     let out = remesh_flat_regions(repaired, &options).ok()?;
-    let before = first.report.as_ref().map_or(0, |r| r.split_edges);
-    (out.report.split_edges > before).then_some((
+    // The first remeshing splits nothing (`apply`, the default options): without a split this
+    // one is the same mesh.
+    (out.report.split_edges > 0).then_some((
         out.mesh,
         FlatOutcome {
             report: Some(out.report),

@@ -607,11 +607,12 @@ pub(crate) fn build(
     crate::interrupt::check()?;
     let mut flat = flat;
     // Where the hull did not separate (or had a degenerate tetrahedron) with every normals
-    // choice, a second remeshing that splits narrow strips between any two flat regions,
-    // not only at creases, and a second build on it (`crate::flat::split_every_strip`).
+    // choice, a second remeshing that splits narrow strips between any two flat regions (the
+    // first keeps every region's boundary), and a second build on it
+    // (`crate::flat::split_every_strip`).
     if let (Err(error), Some(repaired)) = (&surface, &repaired)
         && crate::flat::strips_may_help(error)
-        && let Some((mut second, outcome)) = crate::flat::split_every_strip(repaired, &flat)
+        && let Some((mut second, outcome)) = crate::flat::split_every_strip(repaired)
     {
         if origin != DVec3::ZERO {
             for p in second.positions_mut() {

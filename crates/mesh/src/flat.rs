@@ -349,9 +349,9 @@ pub struct RemeshedRegion {
     pub new_faces: u32,
     /// How many vertices were added inside it.
     pub added_vertices: u32,
-    /// How many vertices were put on its boundary: points of its edges split at creases
-    /// because the region is a narrow strip (see [`NARROW_RATIO`]), its own or a neighbour's.
-    /// Each is counted by both regions it lies between.
+    /// How many vertices were put on its boundary: points of its edges split because the
+    /// region or a neighbouring flat region is a narrow strip (see [`NARROW_RATIO`]). Each is
+    /// counted by both regions it lies between.
     pub boundary_vertices: u32,
     /// Skinny faces (an angle below [`FlatRemeshOptions::skinny_angle_degrees`]) before and
     /// after.
@@ -419,8 +419,9 @@ pub struct FlatRemeshReport {
     /// How many vertices were added (after the input's, which keep their ids): the split
     /// points first, then each remeshed region's inner ones.
     pub added_vertices: u32,
-    /// How many edges between flat regions (or on the mesh's boundary) were split because a
-    /// region along them is a narrow strip ([`NARROW_RATIO`]).
+    /// How many edges between two flat regions were split because a region along them is a
+    /// narrow strip ([`NARROW_RATIO`]); 0 unless [`FlatRemeshOptions::split_narrow_strips`]
+    /// asks for it.
     pub split_edges: u32,
 }
 
@@ -490,6 +491,9 @@ pub fn remesh_flat_regions(
     let none = narrow::EdgeSplits::none(base, regions.len());
     let plain = remesh_with(mesh, &regions, &skinny_before, &none, options)?
         .expect("without splits every region is optional");
+    let Some(crease) = options.split_narrow_strips else {
+        return Ok(plain);
+    };
     let left = plain.report.skipped.len() as u32
         + plain
             .report
@@ -497,14 +501,11 @@ pub fn remesh_flat_regions(
             .iter()
             .map(|r| r.skinny_after)
             .sum::<u32>();
-    let Some(crease) = options.split_narrow_strips else {
-        return Ok(plain);
-    };
     if left == 0 {
         return Ok(plain);
     }
     // Skinny faces are left: those a region's boundary forces. Where the region is a narrow
-    // strip between creases, points on its long edges let it be triangulated well
+    // strip next to another flat region, points on its long edges let it be triangulated well
     // ([`narrow::splits`]).
     let boundaries: Vec<Vec<[u32; 2]>> = regions
         .iter()
@@ -667,8 +668,8 @@ fn remesh_with(
     let positions = p.iter().copied().chain(new_positions).collect();
     let mut out = TriMesh::with_source_faces(positions, triangles, source_faces)?;
     if let Some(n) = mesh.file_normals() {
-        // A split point's normal: the direction halfway between its edge's ends' (it lies on
-        // a crease, where neither region's own normal is the surface's).
+        // A split point's normal: interpolated between its edge's ends' (it lies between two
+        // regions, where neither region's own normal is the surface's).
         let split_normals = split_point_normals(splits, n);
         out.set_file_normals(Some(
             n.iter()

@@ -1,5 +1,5 @@
-//! Narrow flat regions: the long boundary edges of a strip split at creases, so that the strip
-//! can be triangulated into well-shaped faces.
+//! Narrow flat regions: the long boundary edges of a strip split where it meets another flat
+//! region, so that the strip can be triangulated into well-shaped faces.
 //!
 //! Why: [`super::remesh_flat_regions`] keeps a region's boundary, so a strip narrower than its
 //! boundary edges are long (the side wall of a thin plate: 1 × 0.02, two triangles of 1.1°)
@@ -152,8 +152,9 @@ fn corner_angles(
 /// [`MAX_PIECES`]). An edge is split, into the most pieces asked for, when it lies between two
 /// flat regions (two faces) whose normals differ by more than `crease` degrees (at 0 every
 /// edge between two flat regions: [`super::FlatRemeshOptions::split_narrow_strips`]); the
-/// mesh's own boundary is never split (an open mesh keeps its boundary, edge for edge). Points are numbered in the order of the edges' sorted
-/// vertex ids, so the result depends on the mesh alone.
+/// mesh's own boundary is never split (an open mesh keeps its boundary, edge for edge). Points
+/// are numbered in the order of the edges' sorted vertex ids, so the result depends on the
+/// mesh alone.
 pub(super) fn splits(
     mesh: &TriMesh,
     plain: &TriMesh,
